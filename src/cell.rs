@@ -1,0 +1,270 @@
+//! The per-cell test: where does the ray cross the cell's two triangles?
+//!
+//! Inside one cell the ray is a segment `[t_a, t_b]` handed over by the
+//! traversal. Along it, `g(t) = y_ray(t) − h(u(t), v(t))` is piecewise
+//! linear: one piece per triangle, split where the segment crosses the
+//! cell's diagonal. The ray meets the surface exactly where `g` changes
+//! sign (or is zero), so the test samples `g` at the entry, at the diagonal
+//! crossing and at the exit and looks for the first sign change.
+//!
+//! Why this and not a ray/triangle test: the value of `g` at a cell's exit
+//! is computed by the same arithmetic, from the same shared-edge heights,
+//! as the value at the next cell's entry (see [`BoundaryPoint`]), so a
+//! sign change cannot fall between two cells — there are no cracks to
+//! leak through, by construction, with no epsilon, in any numeric type.
+//! Triangles are never built; only the hit triangle's normal is computed,
+//! once, by the caller.
+
+use crate::ray::Triangle;
+use crate::real::Real;
+
+/// The four corner heights of a cell, in object units.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Corners<S> {
+    pub h00: S,
+    pub h10: S,
+    pub h01: S,
+    pub h11: S,
+}
+
+impl<S: Real> Corners<S> {
+    /// Height of the plane of the triangle containing local `(fu, fv)`.
+    #[inline]
+    pub fn plane_height(&self, fu: S, fv: S) -> S {
+        if fu + fv <= S::ONE {
+            self.h00 + fu * (self.h10 - self.h00) + fv * (self.h01 - self.h00)
+        } else {
+            self.h11 + (S::ONE - fu) * (self.h01 - self.h11) + (S::ONE - fv) * (self.h10 - self.h11)
+        }
+    }
+}
+
+/// Where on the cell a boundary sample lies. Shared edges and vertices are
+/// interpolated by one formula from both sides, so neighbouring cells agree
+/// to the bit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Place {
+    /// Strictly inside (the ray's start or end).
+    Interior,
+    /// On the edge `fu = 0` (`false`) or `fu = 1` (`true`).
+    EdgeU(bool),
+    /// On the edge `fv = 0` (`false`) or `fv = 1` (`true`).
+    EdgeV(bool),
+    /// On a vertex `(fu, fv)` each 0 or 1.
+    Vertex(bool, bool),
+}
+
+/// `g` sampled at one point of the ray inside a cell.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BoundaryPoint<S> {
+    pub t: S,
+    pub fu: S,
+    pub fv: S,
+    pub g: S,
+}
+
+#[inline]
+fn clamp01<S: Real>(v: S) -> S {
+    v.max(S::ZERO).min(S::ONE)
+}
+
+#[inline]
+fn pick<S: Real>(one: bool) -> S {
+    if one {
+        S::ONE
+    } else {
+        S::ZERO
+    }
+}
+
+impl<S: Real> BoundaryPoint<S> {
+    /// Samples `g` at parameter `t` placed at `place` of the cell whose
+    /// corner `(0, 0)` is at grid `(cu, cv)`.
+    #[inline]
+    pub fn new(
+        t: S,
+        place: Place,
+        origin: &[S; 3],
+        dir: &[S; 3],
+        cu: S,
+        cv: S,
+        c: &Corners<S>,
+    ) -> Self {
+        let y = origin[1] + t * dir[1];
+        let u = || clamp01(origin[0] + t * dir[0] - cu);
+        let v = || clamp01(origin[2] + t * dir[2] - cv);
+        let (fu, fv, h) = match place {
+            Place::Interior => {
+                let (fu, fv) = (u(), v());
+                (fu, fv, c.plane_height(fu, fv))
+            }
+            Place::EdgeU(right) => {
+                let fv = v();
+                let (lo, hi) = if right {
+                    (c.h10, c.h11)
+                } else {
+                    (c.h00, c.h01)
+                };
+                (pick(right), fv, lo + fv * (hi - lo))
+            }
+            Place::EdgeV(top) => {
+                let fu = u();
+                let (lo, hi) = if top { (c.h01, c.h11) } else { (c.h00, c.h10) };
+                (fu, pick(top), lo + fu * (hi - lo))
+            }
+            Place::Vertex(right, top) => {
+                let h = match (right, top) {
+                    (false, false) => c.h00,
+                    (true, false) => c.h10,
+                    (false, true) => c.h01,
+                    (true, true) => c.h11,
+                };
+                (pick(right), pick(top), h)
+            }
+        };
+        BoundaryPoint {
+            t,
+            fu,
+            fv,
+            g: y - h,
+        }
+    }
+}
+
+/// A crossing found inside a cell.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Crossing<S> {
+    pub t: S,
+    pub triangle: Triangle,
+    pub fu: S,
+    pub fv: S,
+}
+
+/// Finds the first crossing of the ray with the cell's surface between
+/// `a` and `b`, ignoring surface below `water`. `tests` counts the
+/// triangle pieces examined.
+#[inline]
+pub(crate) fn first_crossing<S: Real>(
+    a: &BoundaryPoint<S>,
+    b: &BoundaryPoint<S>,
+    origin: &[S; 3],
+    dir: &[S; 3],
+    cu: S,
+    c: &Corners<S>,
+    water: S,
+    tests: &mut u64,
+) -> Option<Crossing<S>> {
+    let s_a = a.fu + a.fv - S::ONE;
+    let s_b = b.fu + b.fv - S::ONE;
+    let crosses_diagonal = (s_a < S::ZERO && s_b > S::ZERO) || (s_a > S::ZERO && s_b < S::ZERO);
+    if !crosses_diagonal {
+        *tests += 1;
+        let tri = if s_a + s_b <= S::ZERO {
+            Triangle::A
+        } else {
+            Triangle::B
+        };
+        return piece(a, b, tri, origin, dir, c, water);
+    }
+    // The diagonal fu + fv = 1 is crossed strictly inside the segment.
+    let lambda = s_a / (s_a - s_b);
+    let t_d = (a.t + (b.t - a.t) * lambda).max(a.t).min(b.t);
+    let fu_d = clamp01(origin[0] + t_d * dir[0] - cu);
+    let h_d = c.h01 + fu_d * (c.h10 - c.h01);
+    let d = BoundaryPoint {
+        t: t_d,
+        fu: fu_d,
+        fv: S::ONE - fu_d,
+        g: origin[1] + t_d * dir[1] - h_d,
+    };
+    let (first, second) = if s_a < S::ZERO {
+        (Triangle::A, Triangle::B)
+    } else {
+        (Triangle::B, Triangle::A)
+    };
+    *tests += 1;
+    if let Some(hit) = piece(a, &d, first, origin, dir, c, water) {
+        return Some(hit);
+    }
+    *tests += 1;
+    piece(&d, b, second, origin, dir, c, water)
+}
+
+/// The crossing on one linear piece of `g`, if any.
+#[inline]
+fn piece<S: Real>(
+    p: &BoundaryPoint<S>,
+    q: &BoundaryPoint<S>,
+    triangle: Triangle,
+    origin: &[S; 3],
+    dir: &[S; 3],
+    c: &Corners<S>,
+    water: S,
+) -> Option<Crossing<S>> {
+    let zero = S::ZERO;
+    let lambda = if p.g == zero {
+        if q.g == zero {
+            // The ray lies in the triangle's plane: the first point at or
+            // above the water level is the hit.
+            return in_plane(p, q, triangle, origin, dir, water);
+        }
+        zero
+    } else if (p.g > zero && q.g <= zero) || (p.g < zero && q.g >= zero) {
+        clamp01(p.g / (p.g - q.g))
+    } else {
+        return None;
+    };
+    let at = lerp_point(p, q, lambda);
+    let h = c.plane_height(at.fu, at.fv);
+    if h < water {
+        return None;
+    }
+    Some(Crossing {
+        t: at.t,
+        triangle,
+        fu: at.fu,
+        fv: at.fv,
+    })
+}
+
+struct Lerped<S> {
+    t: S,
+    fu: S,
+    fv: S,
+}
+
+#[inline]
+fn lerp_point<S: Real>(p: &BoundaryPoint<S>, q: &BoundaryPoint<S>, lambda: S) -> Lerped<S> {
+    Lerped {
+        t: (p.t + (q.t - p.t) * lambda).max(p.t).min(q.t),
+        fu: clamp01(p.fu + (q.fu - p.fu) * lambda),
+        fv: clamp01(p.fv + (q.fv - p.fv) * lambda),
+    }
+}
+
+/// Ray coplanar with a triangle: hit where it first is at or above `water`.
+fn in_plane<S: Real>(
+    p: &BoundaryPoint<S>,
+    q: &BoundaryPoint<S>,
+    triangle: Triangle,
+    origin: &[S; 3],
+    dir: &[S; 3],
+    water: S,
+) -> Option<Crossing<S>> {
+    let y_p = origin[1] + p.t * dir[1];
+    let y_q = origin[1] + q.t * dir[1];
+    let lambda = if y_p >= water {
+        S::ZERO
+    } else if y_q >= water {
+        clamp01((water - y_p) / (y_q - y_p))
+    } else {
+        return None;
+    };
+    let at = lerp_point(p, q, lambda);
+    Some(Crossing {
+        t: at.t,
+        triangle,
+        fu: at.fu,
+        fv: at.fv,
+    })
+}

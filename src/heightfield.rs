@@ -1,0 +1,573 @@
+//! The height field: a borrowed grid of samples placed in the world.
+//!
+//! Geometry follows POV-Ray 3.7 exactly (see the crate docs): sample
+//! `(column c, image row r)` of a `width × depth` grid sits at object-space
+//! `x = c / (width - 1)`, `z = (depth - 1 - r) / (depth - 1)`, so image row
+//! 0 is the far `z = 1` edge, and at height `y` given by the grid's
+//! [`HeightConvention`]. Each cell is split along the diagonal that joins
+//! its top-left and bottom-right image pixels. The unit cube is then
+//! carried into the world by a [`Transform`].
+//!
+//! Inside the crate, rays are intersected in *grid space*: `u = x·(width−1)`,
+//! `v = z·(depth−1)`, `y` unchanged, so cell boundaries are the integers.
+//! Heights are kept as integers in units of 1/65536 (every convention maps
+//! to those exactly), so the heights the traversal sees are exact in every
+//! numeric type.
+
+use glam::{DAffine3, DVec3, Vec3};
+
+use crate::ray::{FieldHit, Ray, Triangle};
+use crate::real::Real;
+use crate::transform::Transform;
+use crate::traversal::{self, Counters, GridHit, GridRay};
+
+/// The largest width or depth accepted: indices stay well inside `i32`,
+/// and grid coordinates stay exact in `f32` (2^20 < 2^24).
+pub const MAX_SIDE: u32 = 1 << 20;
+
+/// The samples of a grid, borrowed, row-major, image row 0 first.
+#[derive(Debug, Clone, Copy)]
+pub enum Samples<'a> {
+    /// 8-bit samples (palette indices or gray levels).
+    U8(&'a [u8]),
+    /// 16-bit samples (16-bit gray images, POV-Ray `.pot` files).
+    U16(&'a [u16]),
+}
+
+impl Samples<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Samples::U8(s) => s.len(),
+            Samples::U16(s) => s.len(),
+        }
+    }
+}
+
+/// How a sample value becomes a height in `[0, 1)`, as POV-Ray reads each
+/// kind of image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HeightConvention {
+    /// Palette index of an indexed image (GIF, palette PNG):
+    /// `y = index / 256`. The palette's colours do not change heights.
+    Indexed,
+    /// 8-bit gray (PGM, gray TGA, gray PNG): `y = 257 · v / 65536`.
+    Gray8,
+    /// 16-bit value (16-bit gray PNG, `.pot`): `y = v / 65536`.
+    Gray16,
+}
+
+impl HeightConvention {
+    /// Multiplier from a raw sample to height units of 1/65536.
+    const fn multiplier(self) -> u32 {
+        match self {
+            HeightConvention::Indexed => 256,
+            HeightConvention::Gray8 => 257,
+            HeightConvention::Gray16 => 1,
+        }
+    }
+}
+
+/// Why a height field could not be built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HeightFieldError {
+    /// Fewer than 2 × 2 samples: there would be no cell.
+    TooSmall {
+        /// Requested width.
+        width: u32,
+        /// Requested depth.
+        depth: u32,
+    },
+    /// A side longer than [`MAX_SIDE`], or a sample count that overflows.
+    TooLarge {
+        /// Requested width.
+        width: u32,
+        /// Requested depth.
+        depth: u32,
+    },
+    /// The slice does not hold `width × depth` samples.
+    SampleCount {
+        /// `width × depth`.
+        expected: usize,
+        /// The slice's length.
+        actual: usize,
+    },
+    /// 16-bit samples with an 8-bit convention, or the reverse.
+    ConventionMismatch,
+    /// `water_level` is NaN or outside `[0, 1]`.
+    WaterLevel,
+    /// The transform is not finite or not invertible.
+    Transform,
+}
+
+impl core::fmt::Display for HeightFieldError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            HeightFieldError::TooSmall { width, depth } => write!(
+                f,
+                "height field is {width}x{depth}; at least 2x2 samples are needed"
+            ),
+            HeightFieldError::TooLarge { width, depth } => write!(
+                f,
+                "height field is {width}x{depth}; each side may be at most {MAX_SIDE}"
+            ),
+            HeightFieldError::SampleCount { expected, actual } => write!(
+                f,
+                "height field needs {expected} samples but {actual} were given"
+            ),
+            HeightFieldError::ConventionMismatch => {
+                f.write_str("16-bit samples need the Gray16 convention, 8-bit samples the others")
+            }
+            HeightFieldError::WaterLevel => f.write_str("water_level must be within [0, 1]"),
+            HeightFieldError::Transform => {
+                f.write_str("height field transform is singular or not finite")
+            }
+        }
+    }
+}
+
+/// An RGB palette entry.
+pub type PaletteEntry = [u8; 3];
+
+/// A height field: borrowed samples, their convention, an optional
+/// palette, a water level and a placement in the world.
+///
+/// Building one reads every sample once (to bound the field's height);
+/// nothing is allocated and no triangle is ever stored.
+#[derive(Debug, Clone)]
+pub struct HeightField<'a> {
+    samples: Samples<'a>,
+    width: u32,
+    depth: u32,
+    convention: HeightConvention,
+    palette: Option<&'a [PaletteEntry; 256]>,
+    /// In height units of 1/65536.
+    water_units: u32,
+    water_level: f32,
+    min_units: u32,
+    max_units: u32,
+    transform: Transform,
+    world_to_grid64: DAffine3,
+    world_to_grid32: [[f32; 4]; 3],
+    /// Inverse transpose of the grid-to-world linear map: carries grid-space
+    /// normals to world space.
+    normal_matrix: glam::Mat3,
+}
+
+impl<'a> HeightField<'a> {
+    /// A field over `samples` (row-major, image row 0 first), placed in the
+    /// unit cube, with no water level and no palette.
+    pub fn new(
+        samples: Samples<'a>,
+        width: u32,
+        depth: u32,
+        convention: HeightConvention,
+    ) -> Result<Self, HeightFieldError> {
+        if width < 2 || depth < 2 {
+            return Err(HeightFieldError::TooSmall { width, depth });
+        }
+        if width > MAX_SIDE || depth > MAX_SIDE {
+            return Err(HeightFieldError::TooLarge { width, depth });
+        }
+        let expected = (width as usize)
+            .checked_mul(depth as usize)
+            .ok_or(HeightFieldError::TooLarge { width, depth })?;
+        if samples.len() != expected {
+            return Err(HeightFieldError::SampleCount {
+                expected,
+                actual: samples.len(),
+            });
+        }
+        let mult = convention.multiplier();
+        let (lo, hi) = match (samples, convention) {
+            (Samples::U8(s), HeightConvention::Indexed | HeightConvention::Gray8) => s
+                .iter()
+                .fold((u8::MAX, 0u8), |(lo, hi), &v| (lo.min(v), hi.max(v)))
+                .into_u32(),
+            (Samples::U16(s), HeightConvention::Gray16) => s
+                .iter()
+                .fold((u16::MAX, 0u16), |(lo, hi), &v| (lo.min(v), hi.max(v)))
+                .into_u32(),
+            _ => return Err(HeightFieldError::ConventionMismatch),
+        };
+        let mut field = HeightField {
+            samples,
+            width,
+            depth,
+            convention,
+            palette: None,
+            water_units: 0,
+            water_level: 0.0,
+            min_units: lo * mult,
+            max_units: hi * mult,
+            transform: Transform::IDENTITY,
+            world_to_grid64: DAffine3::IDENTITY,
+            world_to_grid32: [[0.0; 4]; 3],
+            normal_matrix: glam::Mat3::IDENTITY,
+        };
+        field.update_grid_transform();
+        Ok(field)
+    }
+
+    /// The same field with POV-Ray's `water_level` (object units, `[0, 1]`):
+    /// surface below it does not exist.
+    pub fn with_water_level(mut self, level: f32) -> Result<Self, HeightFieldError> {
+        if !(0.0..=1.0).contains(&level) {
+            return Err(HeightFieldError::WaterLevel);
+        }
+        self.water_level = level;
+        // Heights are exact multiples of 1/65536; the surface exists where
+        // h >= level, i.e. h_units >= ceil(level * 65536).
+        self.water_units = libm::ceil(level as f64 * 65536.0) as u32;
+        Ok(self)
+    }
+
+    /// The same field with a 256-entry palette (for the thesis's palette
+    /// colouring, POV-Ray's `image_map` on height fields).
+    pub fn with_palette(mut self, palette: &'a [PaletteEntry; 256]) -> Self {
+        self.palette = Some(palette);
+        self
+    }
+
+    /// The same field placed in the world by `transform`.
+    pub fn with_transform(mut self, transform: Transform) -> Self {
+        self.transform = transform;
+        self.update_grid_transform();
+        self
+    }
+
+    fn update_grid_transform(&mut self) {
+        let grid = DAffine3::from_scale(DVec3::new(
+            (self.width - 1) as f64,
+            1.0,
+            (self.depth - 1) as f64,
+        ));
+        let w2g = grid * *self.transform.to_object();
+        self.world_to_grid64 = w2g;
+        let m = w2g.matrix3;
+        let t = w2g.translation;
+        self.world_to_grid32 = [
+            [
+                m.x_axis.x as f32,
+                m.y_axis.x as f32,
+                m.z_axis.x as f32,
+                t.x as f32,
+            ],
+            [
+                m.x_axis.y as f32,
+                m.y_axis.y as f32,
+                m.z_axis.y as f32,
+                t.y as f32,
+            ],
+            [
+                m.x_axis.z as f32,
+                m.y_axis.z as f32,
+                m.z_axis.z as f32,
+                t.z as f32,
+            ],
+        ];
+        let g2w = self.transform.to_world().matrix3
+            * glam::DMat3::from_diagonal(DVec3::new(
+                1.0 / (self.width - 1) as f64,
+                1.0,
+                1.0 / (self.depth - 1) as f64,
+            ));
+        self.normal_matrix = g2w.inverse().transpose().as_mat3();
+    }
+
+    /// Samples per row.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Number of rows.
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// How samples map to heights.
+    pub fn convention(&self) -> HeightConvention {
+        self.convention
+    }
+
+    /// The water level in object units.
+    pub fn water_level(&self) -> f32 {
+        self.water_level
+    }
+
+    /// The placement in the world.
+    pub fn transform(&self) -> &Transform {
+        &self.transform
+    }
+
+    /// The palette, if one was given.
+    pub fn palette(&self) -> Option<&'a [PaletteEntry; 256]> {
+        self.palette
+    }
+
+    /// The borrowed samples.
+    pub fn samples(&self) -> Samples<'a> {
+        self.samples
+    }
+
+    /// Lowest and highest sample height, in object units.
+    pub fn height_range(&self) -> (f32, f32) {
+        (
+            self.min_units as f32 / 65536.0,
+            self.max_units as f32 / 65536.0,
+        )
+    }
+
+    /// Raw sample at grid column `x` and grid row `z` (row 0 at `z = 0`).
+    #[inline]
+    fn raw(&self, x: u32, z: u32) -> u32 {
+        let row = self.depth - 1 - z;
+        let index = row as usize * self.width as usize + x as usize;
+        match self.samples {
+            Samples::U8(s) => s[index] as u32,
+            Samples::U16(s) => s[index] as u32,
+        }
+    }
+
+    /// Height of grid vertex `(x, z)` in units of 1/65536.
+    #[inline]
+    pub(crate) fn height_units(&self, x: u32, z: u32) -> u32 {
+        self.raw(x, z) * self.convention.multiplier()
+    }
+
+    /// Height of grid vertex `(x, z)` (grid row 0 at `z = 0`) in object
+    /// units. Panics if out of range.
+    pub fn height(&self, x: u32, z: u32) -> f32 {
+        self.height_units(x, z) as f32 / 65536.0
+    }
+
+    pub(crate) fn water_units(&self) -> u32 {
+        self.water_units
+    }
+
+    pub(crate) fn units_range(&self) -> (u32, u32) {
+        (self.min_units, self.max_units)
+    }
+
+    /// World ray into grid space in the precision `S`.
+    #[inline]
+    pub(crate) fn grid_ray<S: Real>(&self, origin: [S; 3], direction: [S; 3]) -> GridRay<S> {
+        let mut o = [S::ZERO; 3];
+        let mut d = [S::ZERO; 3];
+        if core::mem::size_of::<S>() == 8 {
+            let m = &self.world_to_grid64;
+            let cols = [m.matrix3.x_axis, m.matrix3.y_axis, m.matrix3.z_axis];
+            let t = [m.translation.x, m.translation.y, m.translation.z];
+            for r in 0..3 {
+                let row = [cols[0][r], cols[1][r], cols[2][r]];
+                o[r] = S::from_f64(t[r]);
+                for c in 0..3 {
+                    o[r] = o[r] + S::from_f64(row[c]) * origin[c];
+                    d[r] = d[r] + S::from_f64(row[c]) * direction[c];
+                }
+            }
+        } else {
+            for (r, row) in self.world_to_grid32.iter().enumerate() {
+                o[r] = S::from_f32(row[3]);
+                for c in 0..3 {
+                    o[r] = o[r] + S::from_f32(row[c]) * origin[c];
+                    d[r] = d[r] + S::from_f32(row[c]) * direction[c];
+                }
+            }
+        }
+        GridRay {
+            origin: o,
+            direction: d,
+        }
+    }
+
+    /// The nearest hit of `ray` with `t` in `[t_min, t_max]`, in `f32`.
+    ///
+    /// `t_max` may be `f32::INFINITY`. Rays with a NaN or infinite
+    /// component, or a zero direction, miss.
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<FieldHit> {
+        self.intersect_counted(ray, t_min, t_max, &mut Counters::default())
+    }
+
+    /// [`intersect`](Self::intersect), adding the work done to `counters`.
+    pub fn intersect_counted(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> Option<FieldHit> {
+        let o = ray.origin.to_array();
+        let d = ray.direction.to_array();
+        let hit = self.intersect_in::<f32>(o, d, t_min, t_max, counters)?;
+        Some(self.finish_hit(ray, &hit))
+    }
+
+    /// The nearest hit computed in the numeric type `S` (`f32`, `f64`, …),
+    /// in grid terms. This is the reference entry point for comparing
+    /// numeric paths; most callers want [`intersect`](Self::intersect).
+    pub fn intersect_in<S: Real>(
+        &self,
+        origin: [S; 3],
+        direction: [S; 3],
+        t_min: S,
+        t_max: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        let ray = self.grid_ray(origin, direction);
+        traversal::nearest(self, &ray, t_min, t_max, false, counters)
+    }
+
+    /// `true` if anything of the field lies on the ray within
+    /// `[t_min, t_max]` (shadow rays). Stops at the first hit found.
+    pub fn occludes(&self, ray: &Ray, t_min: f32, t_max: f32, counters: &mut Counters) -> bool {
+        let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
+        traversal::nearest(self, &g, t_min, t_max, true, counters).is_some()
+    }
+
+    /// Completes a grid hit into a world-space [`FieldHit`].
+    pub fn finish_hit<S: Real>(&self, ray: &Ray, hit: &GridHit<S>) -> FieldHit {
+        let t = hit.t.to_f32();
+        let fu = hit.local.0.to_f32();
+        let fv = hit.local.1.to_f32();
+        let object_point = Vec3::new(
+            (hit.cell_x as f32 + fu) / (self.width - 1) as f32,
+            self.surface_height(hit.cell_x, hit.cell_z, hit.triangle, fu, fv),
+            (hit.cell_z as f32 + fv) / (self.depth - 1) as f32,
+        );
+        FieldHit {
+            t,
+            point: ray.at(t),
+            object_point,
+            cell_x: hit.cell_x,
+            cell_z: hit.cell_z,
+            triangle: hit.triangle,
+            local: (fu, fv),
+            normal: self.geometric_normal(hit.cell_x, hit.cell_z, hit.triangle),
+        }
+    }
+
+    /// Height of the triangle's plane at local `(fu, fv)`.
+    fn surface_height(&self, x: u32, z: u32, tri: Triangle, fu: f32, fv: f32) -> f32 {
+        let h = |dx, dz| self.height(x + dx, z + dz);
+        match tri {
+            Triangle::A => h(0, 0) + fu * (h(1, 0) - h(0, 0)) + fv * (h(0, 1) - h(0, 0)),
+            Triangle::B => {
+                h(1, 1) + (1.0 - fu) * (h(0, 1) - h(1, 1)) + (1.0 - fv) * (h(1, 0) - h(1, 1))
+            }
+        }
+    }
+
+    /// Height differences of a triangle along grid u and v.
+    fn triangle_slopes(&self, x: u32, z: u32, tri: Triangle) -> (f32, f32) {
+        let h = |dx, dz| self.height(x + dx, z + dz);
+        match tri {
+            Triangle::A => (h(1, 0) - h(0, 0), h(0, 1) - h(0, 0)),
+            Triangle::B => (h(1, 1) - h(0, 1), h(1, 1) - h(1, 0)),
+        }
+    }
+
+    /// Converts a grid-space normal `(-dh/du, 1, -dh/dv)` to a unit world
+    /// normal (inverse transpose of the grid-to-world map).
+    fn grid_normal_to_world(&self, n: Vec3) -> Vec3 {
+        (self.normal_matrix * n).normalize_or_zero()
+    }
+
+    /// Unit geometric normal of a triangle in world space ("up" side).
+    pub fn geometric_normal(&self, x: u32, z: u32, tri: Triangle) -> Vec3 {
+        let (du, dv) = self.triangle_slopes(x, z, tri);
+        self.grid_normal_to_world(Vec3::new(-du, 1.0, -dv))
+    }
+
+    /// POV-Ray `smooth` shading normal at a hit: the bilinear blend of the
+    /// cell's four vertex normals, each the mean of its surrounding quadrant
+    /// normals (in grid space), carried to world space.
+    pub fn smooth_normal(&self, hit: &FieldHit) -> Vec3 {
+        let (fu, fv) = hit.local;
+        let (x, z) = (hit.cell_x, hit.cell_z);
+        let n00 = self.vertex_normal(x, z);
+        let n10 = self.vertex_normal(x + 1, z);
+        let n01 = self.vertex_normal(x, z + 1);
+        let n11 = self.vertex_normal(x + 1, z + 1);
+        let n = n00 * ((1.0 - fu) * (1.0 - fv))
+            + n10 * (fu * (1.0 - fv))
+            + n01 * ((1.0 - fu) * fv)
+            + n11 * (fu * fv);
+        self.grid_normal_to_world(n)
+    }
+
+    /// Mean of the unit normals of the (up to four) quadrants around a
+    /// vertex, in grid space.
+    fn vertex_normal(&self, x: u32, z: u32) -> Vec3 {
+        let h0 = self.height(x, z);
+        let mut sum = Vec3::ZERO;
+        for (sx, sz) in [(1i32, 1i32), (-1, 1), (-1, -1), (1, -1)] {
+            let nx = x as i64 + sx as i64;
+            let nz = z as i64 + sz as i64;
+            if nx < 0 || nz < 0 || nx >= self.width as i64 || nz >= self.depth as i64 {
+                continue;
+            }
+            let du = (self.height(nx as u32, z) - h0) * sx as f32;
+            let dv = (self.height(x, nz as u32) - h0) * sz as f32;
+            sum += Vec3::new(-du, 1.0, -dv).normalize();
+        }
+        sum.normalize_or_zero()
+    }
+
+    /// The thesis's palette colouring: the mean of the palette colours of
+    /// the triangle's three vertices, as linear `0..1` RGB. `None` without a
+    /// palette or for 16-bit samples.
+    pub fn triangle_palette_color(&self, x: u32, z: u32, tri: Triangle) -> Option<Vec3> {
+        let palette = self.palette?;
+        if !matches!(self.samples, Samples::U8(_)) {
+            return None;
+        }
+        let verts = match tri {
+            Triangle::A => [(x, z), (x + 1, z), (x, z + 1)],
+            Triangle::B => [(x + 1, z + 1), (x, z + 1), (x + 1, z)],
+        };
+        let mut sum = Vec3::ZERO;
+        for (vx, vz) in verts {
+            let c = palette[self.raw(vx, vz) as usize];
+            sum += Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+        }
+        Some(sum / (3.0 * 255.0))
+    }
+
+    /// Bytes this value occupies (the samples are borrowed, not counted).
+    pub const SIZE: usize = core::mem::size_of::<Self>();
+
+    /// World-space axis-aligned bounds of the field's box (the unit cube,
+    /// y limited to the sample range), for scene-level culling.
+    pub fn world_bounds(&self) -> (Vec3, Vec3) {
+        let (lo, hi) = self.height_range();
+        let lo_y = lo.max(self.water_level) as f64;
+        let m = self.transform.to_world();
+        let mut min = DVec3::splat(f64::INFINITY);
+        let mut max = DVec3::splat(f64::NEG_INFINITY);
+        for i in 0..8 {
+            let p = DVec3::new(
+                (i & 1) as f64,
+                if i & 2 == 0 { lo_y } else { hi as f64 },
+                ((i >> 2) & 1) as f64,
+            );
+            let w = m.transform_point3(p);
+            min = min.min(w);
+            max = max.max(w);
+        }
+        (min.as_vec3(), max.as_vec3())
+    }
+}
+
+trait IntoU32Pair {
+    fn into_u32(self) -> (u32, u32);
+}
+impl IntoU32Pair for (u8, u8) {
+    fn into_u32(self) -> (u32, u32) {
+        (self.0 as u32, self.1 as u32)
+    }
+}
+impl IntoU32Pair for (u16, u16) {
+    fn into_u32(self) -> (u32, u32) {
+        (self.0 as u32, self.1 as u32)
+    }
+}

@@ -1,0 +1,296 @@
+//! The scene model: what a scene file means, as plain data.
+//!
+//! The parser fills it; firmware can also build one directly in code.
+//! Capacities are const generics, so a build pays only for the objects and
+//! lights its scenes need. Height-field *data* is not part of the model:
+//! each `height_field` object names its image and gets a `field_index`; the
+//! caller loads the images and hands the renderer one
+//! [`HeightField`](crate::HeightField) per index.
+
+use glam::Vec3;
+use heapless::Vec;
+
+use crate::transform::Transform;
+
+/// Linear RGB, each channel nominally in `[0, 1]`.
+pub type Color = Vec3;
+
+/// Which projection a camera uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Projection {
+    /// POV-Ray's default pinhole camera.
+    #[default]
+    Perspective,
+    /// Parallel rays; `right` and `up` give the view's size.
+    Orthographic,
+}
+
+/// A camera as written in the scene (POV-Ray semantics; the
+/// [`camera`](crate::camera) module turns it into rays).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraDesc {
+    /// Perspective or orthographic.
+    pub projection: Projection,
+    /// `location`.
+    pub location: Vec3,
+    /// `look_at`.
+    pub look_at: Vec3,
+    /// `angle` in degrees (horizontal field of view), if given.
+    pub angle: Option<f32>,
+    /// `right` (default `<1.33, 0, 0>`).
+    pub right: Vec3,
+    /// `up` (default `<0, 1, 0>`).
+    pub up: Vec3,
+    /// `direction` (default `<0, 0, 1>`).
+    pub direction: Vec3,
+    /// `sky` (default `<0, 1, 0>`).
+    pub sky: Vec3,
+}
+
+impl Default for CameraDesc {
+    fn default() -> Self {
+        CameraDesc {
+            projection: Projection::Perspective,
+            location: Vec3::ZERO,
+            look_at: Vec3::Z,
+            angle: None,
+            right: Vec3::new(1.33, 0.0, 0.0),
+            up: Vec3::Y,
+            direction: Vec3::Z,
+            sky: Vec3::Y,
+        }
+    }
+}
+
+/// A point light (`light_source`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    /// Position in world space.
+    pub position: Vec3,
+    /// Colour (intensity per channel).
+    pub color: Color,
+}
+
+/// `pigment { color rgb/rgbf/rgbt/rgbft <..> }`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pigment {
+    /// Surface colour.
+    pub color: Color,
+    /// `filter`: share of light passing through, tinted by `color`.
+    pub filter: f32,
+    /// `transmit`: share of light passing through untinted.
+    pub transmit: f32,
+}
+
+impl Default for Pigment {
+    /// POV-Ray's default pigment is black.
+    fn default() -> Self {
+        Pigment {
+            color: Vec3::ZERO,
+            filter: 0.0,
+            transmit: 0.0,
+        }
+    }
+}
+
+/// `finish { .. }` with POV-Ray 3.7's defaults.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Finish {
+    /// `ambient` (default 0.1), multiplied by the pigment colour.
+    pub ambient: Color,
+    /// `diffuse` (default 0.6).
+    pub diffuse: f32,
+    /// `phong` highlight amount (default 0).
+    pub phong: f32,
+    /// `phong_size` (default 40).
+    pub phong_size: f32,
+    /// `specular` highlight amount (default 0).
+    pub specular: f32,
+    /// `roughness` (default 0.05); the specular exponent is `1/roughness`.
+    pub roughness: f32,
+    /// `reflection` (default 0).
+    pub reflection: Color,
+}
+
+impl Default for Finish {
+    fn default() -> Self {
+        Finish {
+            ambient: Vec3::splat(0.1),
+            diffuse: 0.6,
+            phong: 0.0,
+            phong_size: 40.0,
+            specular: 0.0,
+            roughness: 0.05,
+            reflection: Vec3::ZERO,
+        }
+    }
+}
+
+/// Image formats a `height_field` can name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// `gif`: palette index is the height.
+    Gif,
+    /// `png`: 8/16-bit gray or indexed.
+    Png,
+    /// `pgm`: 8/16-bit gray.
+    Pgm,
+    /// `ppm`: POV-Ray reads red·256 + green as a 16-bit height.
+    Ppm,
+    /// `tga`: gray, or POV-Ray's red·256 + green for colour images.
+    Tga,
+    /// `pot`: POV-Ray's 16-bit "Fractint POT" format.
+    Pot,
+}
+
+/// The geometry of an object, in object space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape<'src> {
+    /// `height_field { format "file" .. }`: the unit cube.
+    HeightField {
+        /// The image format keyword.
+        format: ImageFormat,
+        /// The file name as written (relative to the scene file).
+        path: &'src str,
+        /// `smooth`: interpolated shading normals.
+        smooth: bool,
+        /// `water_level` in `[0, 1]`.
+        water_level: f32,
+        /// Thesis-style palette colouring (`image_map` in the thesis's
+        /// syntax): a triangle's colour is the mean of its vertices'
+        /// palette colours.
+        palette_colors: bool,
+        /// Index into the height fields handed to the renderer.
+        field_index: usize,
+    },
+    /// `plane { normal, distance }`: points with `p·normal = distance`.
+    Plane {
+        /// Unit normal.
+        normal: Vec3,
+        /// Offset along the normal.
+        distance: f32,
+    },
+    /// `sphere { center, radius }`.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius (> 0).
+        radius: f32,
+    },
+    /// `box { corner1, corner2 }`.
+    Box {
+        /// Minimum corner.
+        min: Vec3,
+        /// Maximum corner.
+        max: Vec3,
+    },
+    /// `cylinder { base, cap, radius [open] }`.
+    Cylinder {
+        /// Centre of one end.
+        base: Vec3,
+        /// Centre of the other end.
+        cap: Vec3,
+        /// Radius (> 0).
+        radius: f32,
+        /// `open`: no end caps.
+        open: bool,
+    },
+    /// `cone { base, base_radius, cap, cap_radius [open] }`.
+    Cone {
+        /// Centre of one end.
+        base: Vec3,
+        /// Radius there (>= 0).
+        base_radius: f32,
+        /// Centre of the other end.
+        cap: Vec3,
+        /// Radius there (>= 0).
+        cap_radius: f32,
+        /// `open`: no end caps.
+        open: bool,
+    },
+    /// `triangle { a, b, c }`.
+    Triangle {
+        /// The three vertices.
+        vertices: [Vec3; 3],
+    },
+}
+
+/// One object: shape, placement and appearance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Object<'src> {
+    /// Geometry in object space.
+    pub shape: Shape<'src>,
+    /// Object-to-world placement (all `scale/rotate/translate`, in order).
+    pub transform: Transform,
+    /// Colour.
+    pub pigment: Pigment,
+    /// Surface finish.
+    pub finish: Finish,
+}
+
+/// `global_settings { .. }`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GlobalSettings {
+    /// `assumed_gamma` (recorded; hfray's output is linear).
+    pub assumed_gamma: Option<f32>,
+    /// `max_trace_level` (default 5): bound on reflection/refraction depth.
+    pub max_trace_level: u32,
+    /// `ambient_light` (default white).
+    pub ambient_light: Color,
+}
+
+impl Default for GlobalSettings {
+    fn default() -> Self {
+        GlobalSettings {
+            assumed_gamma: None,
+            max_trace_level: 5,
+            ambient_light: Vec3::ONE,
+        }
+    }
+}
+
+/// A whole scene, with room for `OBJECTS` objects and `LIGHTS` lights.
+#[derive(Debug, Clone)]
+pub struct Scene<'src, const OBJECTS: usize = 32, const LIGHTS: usize = 8> {
+    /// The camera (the last `camera` block wins, as in POV-Ray).
+    pub camera: CameraDesc,
+    /// Light sources.
+    pub lights: Vec<Light, LIGHTS>,
+    /// `background { color .. }` (default black).
+    pub background: Color,
+    /// Objects, in file order.
+    pub objects: Vec<Object<'src>, OBJECTS>,
+    /// `global_settings`.
+    pub settings: GlobalSettings,
+    /// `#version`, if given.
+    pub version: Option<f32>,
+}
+
+impl<const OBJECTS: usize, const LIGHTS: usize> Default for Scene<'_, OBJECTS, LIGHTS> {
+    fn default() -> Self {
+        Scene {
+            camera: CameraDesc::default(),
+            lights: Vec::new(),
+            background: Vec3::ZERO,
+            objects: Vec::new(),
+            settings: GlobalSettings::default(),
+            version: None,
+        }
+    }
+}
+
+impl<'src, const OBJECTS: usize, const LIGHTS: usize> Scene<'src, OBJECTS, LIGHTS> {
+    /// The height-field objects in `field_index` order, with their image
+    /// format and path (the harness loads these).
+    pub fn height_fields(&self) -> impl Iterator<Item = (usize, ImageFormat, &'src str)> + '_ {
+        self.objects.iter().filter_map(|o| match o.shape {
+            Shape::HeightField {
+                format,
+                path,
+                field_index,
+                ..
+            } => Some((field_index, format, path)),
+            _ => None,
+        })
+    }
+}
