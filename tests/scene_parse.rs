@@ -139,7 +139,11 @@ fn height_field_formats_and_extension_inference() {
         (r#"height_field { ppm "d.ppm" }"#, ImageFormat::Ppm, "d.ppm"),
         (r#"height_field { tga "e.tga" }"#, ImageFormat::Tga, "e.tga"),
         (r#"height_field { pot "f.pot" }"#, ImageFormat::Pot, "f.pot"),
-        (r#"height_field { "dir/g.PNG" }"#, ImageFormat::Png, "dir/g.PNG"),
+        (
+            r#"height_field { "dir/g.PNG" }"#,
+            ImageFormat::Png,
+            "dir/g.PNG",
+        ),
         (r#"height_field { "h.tga" }"#, ImageFormat::Tga, "h.tga"),
         // The format keyword wins over the extension.
         (r#"height_field { gif "x.dat" }"#, ImageFormat::Gif, "x.dat"),
@@ -367,7 +371,10 @@ fn matrix_and_transform_block() {
         "sphere { 0, 1 matrix <1, 0, 0,  0, 2, 0,  0, 0, 3,  4, 5, 6> }
          sphere { 0, 1 transform { scale 2 transform { translate x } } rotate <0, 90, 0> }",
     );
-    let m = scene.objects[0].transform.to_world().transform_point3(DVec3::ONE);
+    let m = scene.objects[0]
+        .transform
+        .to_world()
+        .transform_point3(DVec3::ONE);
     assert_eq!(m, DVec3::new(5.0, 7.0, 9.0));
     assert_eq!(
         scene.objects[1].transform,
@@ -452,9 +459,8 @@ fn finish_items() {
 
 #[test]
 fn texture_block_holds_pigment_and_finish() {
-    let scene = parse(
-        "sphere { 0, 1 texture { pigment { rgb <0, 1, 0> } finish { phong 1 } scale 2 } }",
-    );
+    let scene =
+        parse("sphere { 0, 1 texture { pigment { rgb <0, 1, 0> } finish { phong 1 } scale 2 } }");
     let o = only_object(&scene);
     assert_eq!(o.pigment.color, Vec3::Y);
     assert_eq!(o.finish.phong, 1.0);
@@ -636,8 +642,8 @@ fn strict_mode_turns_the_normal_warning_into_an_error() {
         strict: true,
         ..ParseOptions::default()
     };
-    let err = parse_scene::<4, 1>(src, &opts, &mut |_| panic!("no warnings in strict mode"))
-        .unwrap_err();
+    let err =
+        parse_scene::<4, 1>(src, &opts, &mut |_| panic!("no warnings in strict mode")).unwrap_err();
     assert_eq!(err.severity, Severity::Error);
     assert_eq!(
         err.to_string(),

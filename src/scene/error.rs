@@ -31,13 +31,33 @@ impl fmt::Display for Arity {
     }
 }
 
+/// A number shown compactly: as the `f32` it came from when it is one
+/// (so `-0.1f32` shows as `-0.1`), in exponent form when very large or
+/// small.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Num(pub f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0;
+        let a = v.abs();
+        if a != 0.0 && !(1e-6..1e9).contains(&a) {
+            write!(f, "{v:e}")
+        } else if f64::from(v as f32) == v {
+            write!(f, "{}", v as f32)
+        } else {
+            write!(f, "{v}")
+        }
+    }
+}
+
 /// Three numbers shown as `<a, b, c>`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Triple(pub [f64; 3]);
 
 impl fmt::Display for Triple {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let [a, b, c] = self.0;
+        let [a, b, c] = self.0.map(Num);
         write!(f, "<{a}, {b}, {c}>")
     }
 }
@@ -273,7 +293,7 @@ impl fmt::Display for DiagnosticKind<'_> {
             K::DivisionByZero => f.write_str("division by zero"),
             K::NotFinite => f.write_str("expression result is not a finite number"),
             K::OutOfRange { what, range, value } => {
-                write!(f, "{what} must be {range}, found {value}")
+                write!(f, "{what} must be {range}, found {}", Num(value))
             }
             K::ScaleNotPositive { factors } => write!(
                 f,

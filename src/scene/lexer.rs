@@ -232,8 +232,7 @@ impl<'src> Lexer<'src> {
             '#' => TokenKind::Hash,
             '"' => return self.string(pos),
             c if c.is_ascii_alphabetic() || c == '_' => {
-                while matches!(self.peek_char(), Some(c) if c.is_ascii_alphanumeric() || c == '_')
-                {
+                while matches!(self.peek_char(), Some(c) if c.is_ascii_alphanumeric() || c == '_') {
                     self.bump();
                 }
                 TokenKind::Ident(self.src.get(start..self.off).unwrap_or(""))
@@ -277,7 +276,12 @@ impl<'src> Lexer<'src> {
         }
     }
 
-    fn number(&mut self, start: usize, pos: Pos, first: char) -> Result<Token<'src>, Diagnostic<'src>> {
+    fn number(
+        &mut self,
+        start: usize,
+        pos: Pos,
+        first: char,
+    ) -> Result<Token<'src>, Diagnostic<'src>> {
         let mut seen_dot = first == '.';
         loop {
             match self.peek_char() {

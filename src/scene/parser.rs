@@ -1089,9 +1089,9 @@ impl<'src> Parser<'src, '_> {
                 self.matrix()?
             }
             Some(Kw::Transform) => {
+                self.enter()?;
                 self.bump()?;
                 let open = self.open_brace()?;
-                self.enter()?;
                 let mut acc = Transform::IDENTITY;
                 // Bound: each iteration consumes a transform item or `}`.
                 loop {
@@ -1160,7 +1160,7 @@ impl<'src> Parser<'src, '_> {
         let mut cam = CameraDesc::default();
         let mut look_at: Option<Pos> = None;
         let mut where_ = [cam_pos; 4]; // right, up, direction, sky
-        // Bound: each iteration consumes an item or `}`.
+                                       // Bound: each iteration consumes an item or `}`.
         loop {
             let tok = self.tok;
             match tok.kind {
@@ -1257,11 +1257,9 @@ impl<'src> Parser<'src, '_> {
                         ))
                     }
                 },
-                _ => {
-                    return Err(self.expected(
-                        "a camera item (location, look_at, angle, right, up, direction, sky) or `}`",
-                    ))
-                }
+                _ => return Err(self.expected(
+                    "a camera item (location, look_at, angle, right, up, direction, sky) or `}`",
+                )),
             }
         }
         // Degenerate cameras, checked once the whole block is known.
@@ -1342,7 +1340,8 @@ impl<'src> Parser<'src, '_> {
                             tok.pos,
                             K::UnknownIdentifier {
                                 name,
-                                expected: "a light_source modifier (translate, rotate, scale) or `}`",
+                                expected:
+                                    "a light_source modifier (translate, rotate, scale) or `}`",
                             },
                         ));
                     }
@@ -1544,7 +1543,9 @@ impl<'src> Parser<'src, '_> {
                 .find(|(e, _)| path.contains('.') && e.eq_ignore_ascii_case(ext));
                 match f {
                     Some((_, f)) => f,
-                    None => return Err(D::error(ftok.pos, K::UnknownImageExtension { file: path })),
+                    None => {
+                        return Err(D::error(ftok.pos, K::UnknownImageExtension { file: path }))
+                    }
                 }
             }
         };
