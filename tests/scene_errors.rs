@@ -715,3 +715,11 @@ fn parser_never_panics_on_random_and_mutated_inputs() {
     assert!(oks > 50, "oks = {oks}");
     assert!(errors > 1000, "errors = {errors}");
 }
+
+#[test]
+fn composed_transform_overflowing_f32() {
+    assert_eq!(
+        err("sphere { 0, 1 scale 1e30 scale 1e30 }"),
+        "1:26: expected a transform within the f32 range, found one that overflows it"
+    );
+}

@@ -718,3 +718,35 @@ height_field {
         vec![(0, ImageFormat::Gif, "mountain.gif")]
     );
 }
+
+#[test]
+fn directives_inside_blocks_and_hierarchy_are_accepted() {
+    let scene = parse(
+        r#"height_field { gif "a.gif"
+             #declare W = 0.25;
+             water_level W hierarchy on
+             pigment { #include "colors.inc" color Green } }"#,
+    );
+    let o = only_object(&scene);
+    assert_eq!(o.pigment.color, Vec3::Y);
+    match o.shape {
+        Shape::HeightField { water_level, .. } => assert_eq!(water_level, 0.25),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn pov_image_map_block_in_height_field_warns() {
+    let (scene, w) = parse_opts(
+        r#"height_field { gif "a.gif" image_map { gif "a.gif" } }"#,
+        &ParseOptions::default(),
+    );
+    assert_eq!(
+        w,
+        vec!["1:28: unsupported `image_map` in height_field: skipped"]
+    );
+    match only_object(&scene).shape {
+        Shape::HeightField { palette_colors, .. } => assert!(!palette_colors),
+        other => panic!("{other:?}"),
+    }
+}

@@ -221,6 +221,8 @@ pub enum DiagnosticKind<'src> {
     },
     /// A `matrix` that is singular or not finite.
     SingularMatrix,
+    /// The composed transform no longer fits `f32`.
+    TransformOutOfRange,
     /// A construct inside an object/block that hfray skips (a warning, or
     /// an error in strict mode).
     Unsupported {
@@ -330,6 +332,9 @@ impl fmt::Display for DiagnosticKind<'_> {
             }
             K::Misplaced { what, hint } => write!(f, "misplaced `{what}`: {hint}"),
             K::Degenerate { what } => write!(f, "degenerate {what}"),
+            K::TransformOutOfRange => f.write_str(
+                "expected a transform within the f32 range, found one that overflows it",
+            ),
             K::SingularMatrix => {
                 f.write_str("expected an invertible matrix, found a singular or non-finite one")
             }

@@ -1069,6 +1069,7 @@ impl<'src> Parser<'src, '_> {
                 }
                 let v = v.promoted(3);
                 let s = DVec3::new(v.c[0], v.c[1], v.c[2]);
+                to_f32(s.max_element(), pos)?;
                 if s.x <= 0.0 || s.y <= 0.0 || s.z <= 0.0 {
                     return Err(D::error(pos, K::ScaleNotPositive { factors: triple(s) }));
                 }
@@ -1699,6 +1700,12 @@ impl<'src> Parser<'src, '_> {
             };
             if let Some(t) = self.transform_item()? {
                 obj.transform = obj.transform.then(&t);
+                // The renderer works with f32 copies: they must stay finite.
+                if !obj.transform.to_world_f32().is_finite()
+                    || !obj.transform.to_object_f32().is_finite()
+                {
+                    return Err(D::error(tok.pos, K::TransformOutOfRange));
+                }
                 continue;
             }
             let is_field = matches!(shape, Shape::HeightField { .. });
