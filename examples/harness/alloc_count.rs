@@ -26,8 +26,8 @@ pub struct AllocSnapshot {
     pub current_bytes: usize,
     /// Highest `current_bytes` since start or the last `reset_peak`.
     pub peak_bytes: usize,
-    /// Allocations (`alloc`, `alloc_zeroed`, and `realloc` that moved or
-    /// grew a block count once each) since start.
+    /// Allocations since start (`alloc`, `alloc_zeroed`; each successful
+    /// `realloc` counts as one deallocation plus one allocation).
     pub allocations: u64,
     /// Deallocations since start.
     pub deallocations: u64,

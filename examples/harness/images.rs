@@ -10,7 +10,7 @@
 //! | `png`   | gray 1/2/4/8-bit (± alpha)    | `u8`    | `Gray8`    | `257·v` (v scaled to 8 bits) |
 //! | `png`   | gray 16-bit (± alpha)         | `u16`   | `Gray16`   | `v`                      |
 //! | `png`   | RGB(A) 8-bit                  | `u16`   | `Gray16`   | `256·red + green`        |
-//! | `png`   | RGB(A) 16-bit                 | `u16`   | `Gray16`   | `⌊65535·(.297r+.589g+.114b)/65535⌋` |
+//! | `png`   | RGB(A) 16-bit                 | `u16`   | `Gray16`   | `⌊.297r + .589g + .114b⌋` (POV grey) |
 //! | `pgm`/`ppm` | P2/P5 gray, maxval 255    | `u8`    | `Gray8`    | `257·v`                  |
 //! | `pgm`/`ppm` | P2/P5 gray, maxval 65535  | `u16`   | `Gray16`   | `v`                      |
 //! | `pgm`/`ppm` | P2/P5 gray, other maxval  | `u16`   | `Gray16`   | `⌊65535·v/maxval⌋`       |
