@@ -18,8 +18,9 @@ use glam::{DAffine3, DVec3, Vec3};
 
 use crate::ray::{FieldHit, Ray, Triangle};
 use crate::real::Real;
+use crate::skip::{SkipError, SkipGrid};
 use crate::transform::Transform;
-use crate::traversal::{self, Counters, GridHit, GridRay};
+use crate::traversal::{self, Counters, GridHit, GridRay, Traversal};
 
 /// The largest width or depth accepted: indices stay well inside `i32`,
 /// and grid coordinates stay exact in `f32` (2^20 < 2^24).
@@ -150,6 +151,8 @@ pub struct HeightField<'a> {
     /// Inverse transpose of the grid-to-world linear map: carries grid-space
     /// normals to world space.
     normal_matrix: glam::Mat3,
+    skip: Option<SkipGrid<'a>>,
+    traversal: Traversal,
 }
 
 impl<'a> HeightField<'a> {
@@ -201,6 +204,8 @@ impl<'a> HeightField<'a> {
             transform: Transform::IDENTITY,
             world_to_grid64: DAffine3::IDENTITY,
             normal_matrix: glam::Mat3::IDENTITY,
+            skip: None,
+            traversal: Traversal::default(),
         };
         field.update_grid_transform();
         Ok(field)
@@ -231,6 +236,44 @@ impl<'a> HeightField<'a> {
         self.transform = transform;
         self.update_grid_transform();
         self
+    }
+
+    /// The same field with a skip grid built for it ([`SkipGrid::build`] or
+    /// [`SkipGrid::from_precomputed`]): the walk then skips blocks as the
+    /// [`Traversal`] mode says (by default [`Traversal::Hierarchy`]).
+    /// Fails if the grid was made for a field of another size or sample
+    /// width.
+    pub fn with_skip(mut self, skip: SkipGrid<'a>) -> Result<Self, SkipError> {
+        let sb = match self.samples {
+            Samples::U8(_) => 1,
+            Samples::U16(_) => 2,
+        };
+        let grid = (skip.width(), skip.depth(), skip.sample_bytes());
+        if grid != (self.width, self.depth, sb) {
+            return Err(SkipError::FieldMismatch {
+                grid,
+                field: (self.width, self.depth, sb),
+            });
+        }
+        self.skip = Some(skip);
+        Ok(self)
+    }
+
+    /// The same field walked in `mode`. Every mode gives bit-identical
+    /// hits; without a skip grid every mode walks flat.
+    pub fn with_traversal(mut self, mode: Traversal) -> Self {
+        self.traversal = mode;
+        self
+    }
+
+    /// The traversal mode.
+    pub fn traversal(&self) -> Traversal {
+        self.traversal
+    }
+
+    /// The attached skip grid, if any.
+    pub fn skip(&self) -> Option<&SkipGrid<'a>> {
+        self.skip.as_ref()
     }
 
     fn update_grid_transform(&mut self) {
@@ -301,6 +344,45 @@ impl<'a> HeightField<'a> {
         match self.samples {
             Samples::U8(s) => s[index] as u32,
             Samples::U16(s) => s[index] as u32,
+        }
+    }
+
+    /// Raw sample (palette index, gray level or 16-bit value) at grid
+    /// column `x` and grid row `z` (row 0 at `z = 0`). Panics if out of
+    /// range.
+    #[inline]
+    pub fn raw_sample(&self, x: u32, z: u32) -> u32 {
+        self.raw(x, z)
+    }
+
+    /// Height units (1/65536) per raw sample step.
+    #[inline]
+    pub(crate) fn units_per_sample(&self) -> u32 {
+        self.convention.multiplier()
+    }
+
+    /// Heights of cell `(x, z)`'s corners in units of 1/65536:
+    /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
+    #[inline]
+    pub(crate) fn cell_units(&self, x: u32, z: u32) -> [u32; 4] {
+        let w = self.width as usize;
+        // Grid row z is image row depth - 1 - z; grid row z + 1 the one above.
+        let lower = (self.depth - 1 - z) as usize * w + x as usize;
+        let upper = lower - w;
+        let m = self.convention.multiplier();
+        match self.samples {
+            Samples::U8(s) => [
+                s[lower] as u32 * m,
+                s[lower + 1] as u32 * m,
+                s[upper] as u32 * m,
+                s[upper + 1] as u32 * m,
+            ],
+            Samples::U16(s) => [
+                s[lower] as u32 * m,
+                s[lower + 1] as u32 * m,
+                s[upper] as u32 * m,
+                s[upper + 1] as u32 * m,
+            ],
         }
     }
 

@@ -10,6 +10,7 @@ pub mod heightfield;
 pub mod ray;
 pub mod real;
 pub mod scene;
+pub mod skip;
 pub mod transform;
 pub mod traversal;
 
@@ -18,5 +19,6 @@ pub use heapless;
 pub use heightfield::{HeightConvention, HeightField, HeightFieldError, Samples};
 pub use ray::{FieldHit, Ray, Triangle};
 pub use real::Real;
+pub use skip::{SkipError, SkipGrid, SkipLayout};
 pub use transform::Transform;
-pub use traversal::Counters;
+pub use traversal::{Counters, Traversal};

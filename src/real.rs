@@ -48,6 +48,13 @@ pub trait Real:
     /// `units / 65536`: a height in the units the field stores. Exact for
     /// every implementation (heights are multiples of 2^-16 below 1).
     fn from_height_units(units: u32) -> Self;
+    /// `true` only if the boundary parameters `(k − origin)·inv`, computed
+    /// in this type as the traversal computes them, are *strictly* monotone
+    /// in the integer `k` over `lo..=hi` (neighbouring grid lines never
+    /// round to the same `t`). Conservative: may answer `false` when they
+    /// are. The skip walk needs it on one axis to jump over blocks exactly;
+    /// without it the walk goes cell by cell.
+    fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool;
 
     /// The smaller of two values.
     #[inline]
@@ -115,6 +122,17 @@ impl Real for f32 {
     fn from_height_units(units: u32) -> Self {
         units as f32 * (1.0 / 65536.0)
     }
+    #[inline]
+    fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
+        float_strict(
+            origin as f64,
+            inv as f64,
+            lo,
+            hi,
+            2_097_152.0,
+            1.267_650_600_228_229_4e30,
+        )
+    }
 }
 
 impl Real for f64 {
@@ -154,4 +172,29 @@ impl Real for f64 {
     fn from_height_units(units: u32) -> Self {
         units as f64 * (1.0 / 65536.0)
     }
+    #[inline]
+    fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
+        float_strict(
+            origin,
+            inv,
+            lo,
+            hi,
+            1_125_899_906_842_624.0,
+            8.452_712_498_170_644e270,
+        )
+    }
+}
+
+/// Strictness of `fl(fl(k − o)·inv)` for a binary float with a `p`-bit
+/// significand, rounding to nearest (`x_limit = 2^(p−3)`). With
+/// `X = max |k − o|` over the range: each `fl(k − o)` is off by at most
+/// `X·2^-p < 1/8`, so neighbours stay at least `3/4` apart; their products
+/// with `inv` are then `≥ 3|inv|/4` apart exactly, and each is rounded by
+/// at most about `X·|inv|·2^-p < |inv|/8` (or by a subnormal ulp, far
+/// smaller when `|inv| ≥ 1/range`); `X·|inv| ≤ range` keeps them finite.
+#[inline]
+fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) -> bool {
+    let x = (lo as f64 - o).abs().max((hi as f64 - o).abs());
+    let a = inv.abs();
+    x < x_limit && a >= 1.0 / range && x * a <= range
 }

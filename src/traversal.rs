@@ -25,6 +25,7 @@ use crate::cell::{Cell, Corners, Place};
 use crate::heightfield::HeightField;
 use crate::ray::Triangle;
 use crate::real::Real;
+use crate::skip::{SkipGrid, MAX_LEVELS};
 
 /// A ray in grid space: `u = x·(width−1)`, `y`, `v = z·(depth−1)`.
 #[derive(Debug, Clone, Copy)]
@@ -57,12 +58,15 @@ pub struct Counters {
     pub cells: u64,
     /// Triangle pieces examined by the cell test.
     pub triangle_tests: u64,
+    /// Skip-grid blocks tested (0 in the flat walk).
+    pub blocks: u64,
 }
 
 impl core::ops::AddAssign for Counters {
     fn add_assign(&mut self, o: Self) {
         self.cells += o.cells;
         self.triangle_tests += o.triangle_tests;
+        self.blocks += o.blocks;
     }
 }
 
@@ -132,26 +136,8 @@ fn first_cell<S: Real>(p: S, step: i32, cells: i32) -> i32 {
     i.clamp(0, cells - 1)
 }
 
-#[inline]
-fn corners<S: Real>(field: &HeightField<'_>, i: i32, j: i32) -> ([u32; 4], Corners<S>) {
-    let (x, z) = (i as u32, j as u32);
-    let raw = [
-        field.height_units(x, z),
-        field.height_units(x + 1, z),
-        field.height_units(x, z + 1),
-        field.height_units(x + 1, z + 1),
-    ];
-    let c = Corners {
-        h00: S::from_height_units(raw[0]),
-        h10: S::from_height_units(raw[1]),
-        h01: S::from_height_units(raw[2]),
-        h11: S::from_height_units(raw[3]),
-    };
-    (raw, c)
-}
-
 /// How the walk leaves a cell.
-#[derive(Clone, Copy, PartialEq, Eq)]
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Exit {
     U,
     V,
@@ -159,9 +145,389 @@ enum Exit {
     End,
 }
 
-/// The nearest hit with `t` in `[t_min, t_max]`, walking the flat grid.
-/// With `any`, the first hit found is returned (it is the nearest anyway;
-/// the flag only tells the caller it wants a yes/no).
+/// How the walk crosses the field.
+///
+/// Every mode returns bit-identical hits (`tests/modes.rs` checks it on
+/// random and adversarial fields and rays); they differ only in speed.
+/// Without a skip grid attached ([`HeightField::with_skip`]) every mode
+/// walks flat.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Traversal {
+    /// Every crossed cell, one by one: the thesis's walk, kept as the
+    /// reference.
+    Flat,
+    /// Skip whole blocks of level 1 of the skip grid (POV-Ray-style block
+    /// grid), walk cells inside the others.
+    Blocks,
+    /// Use every level of the skip grid: skip the largest block whose
+    /// bounds the ray clears, descend into the others.
+    #[default]
+    Hierarchy,
+}
+
+/// The ray and the field's constants for one walk.
+struct Walk<'r, S> {
+    o: &'r [S; 3],
+    d: &'r [S; 3],
+    au: Axis<S>,
+    av: Axis<S>,
+    t_far: S,
+    cells_u: i32,
+    cells_v: i32,
+    water: S,
+    water_units: u32,
+    /// `v` boundaries are strictly monotone: blocks are left by the v-major
+    /// rule of [`block_exit`] (else by the u-major one).
+    v_strict: bool,
+}
+
+/// What one cell visit found.
+enum Visit<S> {
+    Hit(GridHit<S>),
+    Miss,
+    Next(i32, i32, Place, S),
+}
+
+#[inline]
+fn entry_place(exit: Exit, su: i32, sv: i32) -> Place {
+    match exit {
+        Exit::U => Place::EdgeU(su < 0),
+        Exit::V => Place::EdgeV(sv < 0),
+        _ => Place::Vertex(su < 0, sv < 0),
+    }
+}
+
+impl<S: Real> Walk<'_, S> {
+    /// Visits cell `(i, j)` entered at `t_a` through `entry`: the cull, the
+    /// cell test, and the step to the next cell.
+    #[inline(always)]
+    fn visit(
+        &self,
+        field: &HeightField<'_>,
+        i: i32,
+        j: i32,
+        t_a: S,
+        entry: Place,
+        counters: &mut Counters,
+    ) -> Visit<S> {
+        let (o, d) = (self.o, self.d);
+        let (au, av) = (&self.au, &self.av);
+        counters.cells += 1;
+        let tu = au.exit(i, o[0]);
+        let tv = av.exit(j, o[2]);
+        let t_far = self.t_far;
+        let (t_exit, exit) = if t_far <= tu && t_far <= tv {
+            (t_far, Exit::End)
+        } else if tu < tv {
+            (tu, Exit::U)
+        } else if tv < tu {
+            (tv, Exit::V)
+        } else {
+            (tu, Exit::Corner)
+        };
+        let t_b = t_exit.max(t_a);
+
+        let raw = field.cell_units(i as u32, j as u32);
+        let c_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
+        let c_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
+        let y_a = o[1] + t_a * d[1];
+        let y_b = o[1] + t_b * d[1];
+        let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
+        let culled = c_max < self.water_units
+            || y_low > S::from_height_units(c_max)
+            || y_high < S::from_height_units(c_min)
+            || y_high < self.water;
+        if !culled {
+            let cell = Cell {
+                origin: o,
+                dir: d,
+                cu: S::from_i32(i),
+                cv: S::from_i32(j),
+                corners: Corners {
+                    h00: S::from_height_units(raw[0]),
+                    h10: S::from_height_units(raw[1]),
+                    h01: S::from_height_units(raw[2]),
+                    h11: S::from_height_units(raw[3]),
+                },
+                water: self.water,
+            };
+            let a = cell.point(t_a, entry);
+            let exit_place = match exit {
+                Exit::U => Place::EdgeU(au.step > 0),
+                Exit::V => Place::EdgeV(av.step > 0),
+                Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
+                Exit::End => Place::Interior,
+            };
+            let b = cell.point(t_b, exit_place);
+            if let Some(hit) = cell.first_crossing(&a, &b, &mut counters.triangle_tests) {
+                return Visit::Hit(GridHit {
+                    t: hit.t,
+                    cell_x: i as u32,
+                    cell_z: j as u32,
+                    triangle: hit.triangle,
+                    local: (hit.fu, hit.fv),
+                });
+            }
+        }
+        let (ni, nj) = match exit {
+            Exit::End => return Visit::Miss,
+            Exit::U => (i + au.step, j),
+            Exit::V => (i, j + av.step),
+            Exit::Corner => (i + au.step, j + av.step),
+        };
+        if ni < 0 || nj < 0 || ni >= self.cells_u || nj >= self.cells_v {
+            return Visit::Miss;
+        }
+        Visit::Next(ni, nj, entry_place(exit, au.step, av.step), t_b)
+    }
+
+    /// The flat walk from cell `(i, j)` at `t_a`.
+    fn walk_flat(
+        &self,
+        field: &HeightField<'_>,
+        mut i: i32,
+        mut j: i32,
+        mut t_a: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        let mut entry = Place::Interior;
+        // The walk moves one cell per step along u or v (both at a corner),
+        // never back: it cannot take more steps than this.
+        let max_steps = self.cells_u + self.cells_v + 1;
+        for _ in 0..max_steps {
+            match self.visit(field, i, j, t_a, entry, counters) {
+                Visit::Hit(h) => return Some(h),
+                Visit::Miss => return None,
+                Visit::Next(ni, nj, e, t) => {
+                    (i, j, entry, t_a) = (ni, nj, e, t);
+                }
+            }
+        }
+        None
+    }
+
+    /// The walk with a skip grid: before each cell, the blocks containing
+    /// it are tested from the coarsest level down (each block once while
+    /// the walk stays in it); a block the ray clears is jumped over to the
+    /// cell, entry and `t` the flat walk would have reached.
+    ///
+    /// Why a skip changes nothing. The cells the flat walk visits inside a
+    /// block have entry and exit parameters within `[t_a, t_end]`, where
+    /// `t_a` is the block's entry (the flat walk's entry of its first cell)
+    /// and `t_end` the exit of its last cell; the exits are monotone along
+    /// the walk, so the last cell's exit is the smallest of the two block
+    /// edges' boundary parameters, computed by the very expression the
+    /// cell step uses. `y(t) = o_y + t·d_y` is monotone in `t`, so every
+    /// cell's `[y_low, y_high]` lies inside the block's; the block's stored
+    /// minimum and maximum bound every corner of every cell in it. So the
+    /// block cull implies the cell cull of every cell the flat walk would
+    /// have visited in the block (including the one where it would end),
+    /// and the cells after the block are reached by [`block_exit`] exactly.
+    #[allow(clippy::too_many_arguments)]
+    fn walk_skip(
+        &self,
+        field: &HeightField<'_>,
+        skip: &SkipGrid<'_>,
+        top: u8,
+        mut i: i32,
+        mut j: i32,
+        mut t_a: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        let (o, d) = (self.o, self.d);
+        let (su, sv) = (self.au.step, self.av.step);
+        let log2 = skip.block_log2() as u32;
+        let mult = field.units_per_sample();
+        let mut entry = Place::Interior;
+        let mut open = [(u32::MAX, u32::MAX); MAX_LEVELS as usize];
+        // Each pass visits a cell (at most cells_u + cells_v + 1 of them),
+        // or jumps a block (which also advances at least one cell), or marks
+        // one level's block open (at most `top` per cell position).
+        let max_passes = (self.cells_u + self.cells_v + 1) as u64 * (top as u64 + 1) + 1;
+        'pass: for _ in 0..max_passes {
+            let mut level = top;
+            while level >= 1 {
+                let shift = log2 * level as u32;
+                let (bi, bj) = ((i as u32) >> shift, (j as u32) >> shift);
+                if open[level as usize - 1] != (bi, bj) {
+                    counters.blocks += 1;
+                    let edge = |b: u32, step: i32, cur: i32, cells: i32| -> i32 {
+                        match step {
+                            1 => (((b as i64 + 1) << shift) - 1).min(cells as i64 - 1) as i32,
+                            -1 => ((b as i64) << shift) as i32,
+                            _ => cur,
+                        }
+                    };
+                    let i_edge = edge(bi, su, i, self.cells_u);
+                    let j_edge = edge(bj, sv, j, self.cells_v);
+                    let t_block = self.au.exit(i_edge, o[0]).min(self.av.exit(j_edge, o[2]));
+                    let t_end = t_block.min(self.t_far).max(t_a);
+                    let y_a = o[1] + t_a * d[1];
+                    let y_b = o[1] + t_end * d[1];
+                    let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
+                    let (lo, hi) = skip.raw_bounds(level, bi, bj);
+                    let (b_min, b_max) = (lo * mult, hi * mult);
+                    let culled = b_max < self.water_units
+                        || y_low > S::from_height_units(b_max)
+                        || y_high < S::from_height_units(b_min)
+                        || y_high < self.water;
+                    if culled {
+                        if self.t_far <= t_block {
+                            return None; // the walk ends inside the block
+                        }
+                        let (ni, nj, exit) = self.jump(i, j, i_edge, j_edge);
+                        if ni < 0 || nj < 0 || ni >= self.cells_u || nj >= self.cells_v {
+                            return None;
+                        }
+                        (i, j) = (ni, nj);
+                        entry = entry_place(exit, su, sv);
+                        t_a = t_block.max(t_a);
+                        continue 'pass;
+                    }
+                    open[level as usize - 1] = (bi, bj);
+                }
+                level -= 1;
+            }
+            match self.visit(field, i, j, t_a, entry, counters) {
+                Visit::Hit(h) => return Some(h),
+                Visit::Miss => return None,
+                Visit::Next(ni, nj, e, t) => {
+                    (i, j, entry, t_a) = (ni, nj, e, t);
+                }
+            }
+        }
+        None
+    }
+
+    /// The first cell outside the block whose last cells, along u and v,
+    /// are `i_edge` and `j_edge`, as the flat walk from `(i, j)` reaches it,
+    /// and how it is entered.
+    fn jump(&self, i: i32, j: i32, i_edge: i32, j_edge: i32) -> (i32, i32, Exit) {
+        let (su, sv) = (self.au.step, self.av.step);
+        // One axis parallel: its boundary is "never" (MAX), and the caller
+        // checked that the block is left before `t_far <= MAX`, so every
+        // step in the block is along the other axis.
+        if sv == 0 {
+            return (i_edge + su, j, Exit::U);
+        }
+        if su == 0 {
+            return (i, j_edge + sv, Exit::V);
+        }
+        let (o, d) = (self.o, self.d);
+        let a = |k: i32| self.au.exit(k, o[0]);
+        let b = |k: i32| self.av.exit(k, o[2]);
+        let at_u = |t: S| (o[0] + t * d[0]).floor_i32();
+        let at_v = |t: S| (o[2] + t * d[2]).floor_i32();
+        if self.v_strict {
+            block_exit(&a, &b, &at_u, &at_v, i, j, i_edge, j_edge, su, sv)
+        } else {
+            let (q, p, kind) = block_exit(&b, &a, &at_v, &at_u, j, i, j_edge, i_edge, sv, su);
+            let exit = match kind {
+                Exit::U => Exit::V,
+                Exit::V => Exit::U,
+                other => other,
+            };
+            (p, q, exit)
+        }
+    }
+}
+
+/// The first index `k` of `from, from+step, …, to` with `pred(k)`, for a
+/// predicate that is false then true along the sequence and true at `to`.
+/// Starts at `guess` (clamped) and moves one step at a time: at most
+/// `|to − from|` evaluations, usually one or two.
+#[inline]
+fn first_true(pred: impl Fn(i32) -> bool, from: i32, to: i32, step: i32, guess: i32) -> i32 {
+    let (lo, hi) = if step > 0 { (from, to) } else { (to, from) };
+    let mut k = guess.clamp(lo, hi);
+    if pred(k) {
+        while k != from && pred(k - step) {
+            k -= step;
+        }
+    } else {
+        while k != to {
+            k += step;
+            if pred(k) {
+                break;
+            }
+        }
+    }
+    k
+}
+
+/// Where the flat walk leaves a block, computed without visiting its cells.
+///
+/// In terms of a primary axis `p` with exit parameters `pa(k)` (monotone
+/// along the walk) and a secondary axis `q` with exit parameters `qb(k)`
+/// (*strictly* monotone along the walk, checked per ray by
+/// [`Real::strict_boundaries`]). The walk is memoryless: from cell
+/// `(p, q)` it steps along `p` if `pa(p) < qb(q)`, along `q` if
+/// `qb(q) < pa(p)`, along both if they are equal. So in column `p` it
+/// leaves at the first row `r ≥ (row it entered)` with `qb(r) ≥ pa(p)`,
+/// and (with `qb` strict) it enters column `p > p₀` at row
+/// `max(q₀, first r with qb(r) > pa(p − 1))`. With `P = pa(p_edge)` and
+/// `Q = qb(q_edge)`:
+/// - `P < Q`: every column of the block is left within the block's rows;
+///   the walk leaves through the `p` side from column `p_edge` at the first
+///   row `r ≥ q₀` with `qb(r) ≥ P` and `qb(r) > pa(p_edge − 1)` (the
+///   latter only when `p_edge ≠ p₀`): a corner step if `qb(r) = P`.
+/// - `P ≥ Q`: the walk reaches row `q_edge` in the first column `c` with
+///   `pa(c) ≥ Q` and leaves through the `q` side there: a corner step if
+///   `pa(c) = Q` (then `qb(q_edge − 1) < Q` by strictness).
+///
+/// Returns the next cell and the step kind, with `Exit::U` standing for
+/// "along p" and `Exit::V` for "along q".
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn block_exit<S: Real>(
+    pa: &impl Fn(i32) -> S,
+    qb: &impl Fn(i32) -> S,
+    p_at: &impl Fn(S) -> i32,
+    q_at: &impl Fn(S) -> i32,
+    p: i32,
+    q: i32,
+    p_edge: i32,
+    q_edge: i32,
+    sp: i32,
+    sq: i32,
+) -> (i32, i32, Exit) {
+    let big_p = pa(p_edge);
+    let big_q = qb(q_edge);
+    if big_p < big_q {
+        let prev = if p_edge != p {
+            Some(pa(p_edge - sp))
+        } else {
+            None
+        };
+        let r = first_true(
+            |k| {
+                let b = qb(k);
+                b >= big_p && prev.is_none_or(|x| b > x)
+            },
+            q,
+            q_edge,
+            sq,
+            q_at(big_p),
+        );
+        if qb(r) == big_p {
+            (p_edge + sp, r + sq, Exit::Corner)
+        } else {
+            (p_edge + sp, r, Exit::U)
+        }
+    } else {
+        let c = first_true(|k| pa(k) >= big_q, p, p_edge, sp, p_at(big_q));
+        if pa(c) == big_q {
+            (c + sp, q_edge + sq, Exit::Corner)
+        } else {
+            (c, q_edge + sq, Exit::V)
+        }
+    }
+}
+
+/// The nearest hit with `t` in `[t_min, t_max]`, walking the grid as
+/// `field`'s [`Traversal`] mode says. With `any`, the first hit found is
+/// returned (it is the nearest anyway; the flag only tells the caller it
+/// wants a yes/no).
 pub(crate) fn nearest<S: Real>(
     field: &HeightField<'_>,
     ray: &GridRay<S>,
@@ -221,86 +587,149 @@ pub(crate) fn nearest<S: Real>(
     let entry_v = (o[2] + t_near * d[2])
         .max(S::ZERO)
         .min(S::from_i32(cells_v));
-    let mut i = first_cell(entry_u, au.step, cells_u);
-    let mut j = first_cell(entry_v, av.step, cells_v);
+    let i = first_cell(entry_u, au.step, cells_u);
+    let j = first_cell(entry_v, av.step, cells_v);
 
-    let mut t_a = t_near;
-    let mut entry = Place::Interior;
-    // The walk moves one cell per step along u or v (both at a corner),
-    // never back: it cannot take more steps than this.
-    let max_steps = cells_u + cells_v + 1;
-    for _ in 0..max_steps {
-        counters.cells += 1;
-        let tu = au.exit(i, o[0]);
-        let tv = av.exit(j, o[2]);
-        let (t_exit, exit) = if t_far <= tu && t_far <= tv {
-            (t_far, Exit::End)
-        } else if tu < tv {
-            (tu, Exit::U)
-        } else if tv < tu {
-            (tv, Exit::V)
+    let mut walk = Walk {
+        o,
+        d,
+        au,
+        av,
+        t_far,
+        cells_u,
+        cells_v,
+        water,
+        water_units,
+        v_strict: true,
+    };
+    let skip = match (field.traversal(), field.skip()) {
+        (Traversal::Flat, _) | (_, None) => None,
+        (Traversal::Blocks, Some(s)) => Some((s, 1)),
+        (Traversal::Hierarchy, Some(s)) => Some((s, s.levels())),
+    };
+    if let Some((skip, top)) = skip {
+        // Jumping needs one axis whose boundary parameters are strictly
+        // monotone (see `block_exit`); with rays whose rounding makes
+        // neighbouring boundaries coincide on both axes (origins very far
+        // from the field), walk flat.
+        let jumpable = if au.step != 0 && av.step != 0 {
+            walk.v_strict = S::strict_boundaries(o[2], av.inv, 0, cells_v);
+            walk.v_strict || S::strict_boundaries(o[0], au.inv, 0, cells_u)
         } else {
-            (tu, Exit::Corner)
+            true
         };
-        let t_b = t_exit.max(t_a);
-
-        let (raw, c) = corners::<S>(field, i, j);
-        let c_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
-        let c_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
-        let y_a = o[1] + t_a * d[1];
-        let y_b = o[1] + t_b * d[1];
-        let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
-        let culled = c_max < water_units
-            || y_low > S::from_height_units(c_max)
-            || y_high < S::from_height_units(c_min)
-            || y_high < water;
-        if !culled {
-            let cell = Cell {
-                origin: o,
-                dir: d,
-                cu: S::from_i32(i),
-                cv: S::from_i32(j),
-                corners: c,
-                water,
-            };
-            let a = cell.point(t_a, entry);
-            let exit_place = match exit {
-                Exit::U => Place::EdgeU(au.step > 0),
-                Exit::V => Place::EdgeV(av.step > 0),
-                Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
-                Exit::End => Place::Interior,
-            };
-            let b = cell.point(t_b, exit_place);
-            if let Some(hit) = cell.first_crossing(&a, &b, &mut counters.triangle_tests) {
-                return Some(GridHit {
-                    t: hit.t,
-                    cell_x: i as u32,
-                    cell_z: j as u32,
-                    triangle: hit.triangle,
-                    local: (hit.fu, hit.fv),
-                });
-            }
+        if jumpable {
+            return walk.walk_skip(field, skip, top, i, j, t_near, counters);
         }
-        match exit {
-            Exit::End => return None,
-            Exit::U => {
-                i += au.step;
-                entry = Place::EdgeU(au.step < 0);
-            }
-            Exit::V => {
-                j += av.step;
-                entry = Place::EdgeV(av.step < 0);
-            }
-            Exit::Corner => {
-                i += au.step;
-                j += av.step;
-                entry = Place::Vertex(au.step < 0, av.step < 0);
-            }
-        }
-        if i < 0 || j < 0 || i >= cells_u || j >= cells_v {
-            return None;
-        }
-        t_a = t_b;
     }
-    None
+    walk.walk_flat(field, i, j, t_near, counters)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{block_exit, Exit};
+
+    /// SplitMix64, for the randomised checks below.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        fn below(&mut self, n: u64) -> i32 {
+            (self.next() % n) as i32
+        }
+    }
+
+    /// The flat walk's rule, step by step, until it leaves the block.
+    fn brute(
+        pa: &dyn Fn(i32) -> f64,
+        qb: &dyn Fn(i32) -> f64,
+        (mut p, mut q): (i32, i32),
+        (p_edge, q_edge): (i32, i32),
+        (sp, sq): (i32, i32),
+    ) -> (i32, i32, Exit) {
+        let inside = |k: i32, edge: i32, s: i32| if s > 0 { k <= edge } else { k >= edge };
+        loop {
+            let (a, b) = (pa(p), qb(q));
+            let kind = if a < b {
+                p += sp;
+                Exit::U
+            } else if b < a {
+                q += sq;
+                Exit::V
+            } else {
+                p += sp;
+                q += sq;
+                Exit::Corner
+            };
+            if !inside(p, p_edge, sp) || !inside(q, q_edge, sq) {
+                return (p, q, kind);
+            }
+        }
+    }
+
+    /// `block_exit` against the step-by-step rule on synthetic boundary
+    /// sequences full of ties: the primary one monotone with runs, the
+    /// secondary one strictly monotone; every start cell, both directions,
+    /// wild guesses.
+    #[test]
+    fn block_exit_equals_the_step_by_step_walk_on_tied_sequences() {
+        let mut rng = Rng(7);
+        let mut checked = 0;
+        for _ in 0..3000 {
+            let n = 1 + rng.below(9); // block side
+            let (sp, sq) = (
+                if rng.below(2) == 0 { 1 } else { -1 },
+                if rng.below(2) == 0 { 1 } else { -1 },
+            );
+            // Values along the walk direction, position 0 = first cell.
+            let mut a = [0f64; 10];
+            let mut b = [0f64; 10];
+            let (mut va, mut vb) = (rng.below(3) as f64, rng.below(3) as f64);
+            for k in 0..n as usize {
+                va += rng.below(3) as f64; // runs allowed
+                vb += 1.0 + rng.below(2) as f64; // strict
+                a[k] = va;
+                b[k] = vb;
+            }
+            // Cell index k ↔ position: start cell index s0, moving by s.
+            let (p_start, q_start) = (10 + rng.below(5), 20 + rng.below(5));
+            let pos = |k: i32, start: i32, s: i32| ((k - start) * s) as usize;
+            let pa = |k: i32| a[pos(k, p_start, sp)];
+            let qb = |k: i32| b[pos(k, q_start, sq)];
+            let p_edge = p_start + (n - 1) * sp;
+            let q_edge = q_start + (n - 1) * sq;
+            for i0 in 0..n {
+                for j0 in 0..n {
+                    let p0 = p_start + i0 * sp;
+                    let q0 = q_start + j0 * sq;
+                    let want = brute(&pa, &qb, (p0, q0), (p_edge, q_edge), (sp, sq));
+                    let g1 = p_start + rng.below(2 * n as u64 + 4) - n - 2;
+                    let g2 = q_start + rng.below(2 * n as u64 + 4) - n - 2;
+                    let got = block_exit(
+                        &pa,
+                        &qb,
+                        &|_t: f64| g1,
+                        &|_t: f64| g2,
+                        p0,
+                        q0,
+                        p_edge,
+                        q_edge,
+                        sp,
+                        sq,
+                    );
+                    assert_eq!(
+                        got, want,
+                        "a={a:?} b={b:?} start=({i0},{j0}) steps=({sp},{sq})"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 50_000);
+    }
 }

@@ -1,5 +1,7 @@
 //! No cracks: a ray that goes from above the surface to below it must hit
-//! it, however exactly it threads a vertex, a cell edge or a diagonal.
+//! it, however exactly it threads a vertex, a cell edge or a diagonal. Every
+//! ray runs in every traversal mode (asserted bit-identical to the flat
+//! walk: `common/modes.rs`).
 //!
 //! For every interior vertex, the midpoint of every shared edge (cell edges
 //! along x and z, and the split diagonals) of random fields, rays are aimed
@@ -11,6 +13,7 @@
 
 mod common;
 
+use common::modes::Modes;
 use common::{random_heights, Rng};
 use hfray::glam::{DVec3, Vec3};
 use hfray::{HeightConvention, HeightField, Ray, Samples, Transform};
@@ -37,6 +40,7 @@ struct Tally {
 }
 
 fn check_target(
+    modes: &mut Modes,
     f: &HeightField<'_>,
     to_world: &hfray::glam::DAffine3,
     target_obj: DVec3,
@@ -82,7 +86,7 @@ fn check_target(
         let t_world = to_world.transform_point3(below);
         let ray = Ray::new(o.as_vec3(), (t_world - o).as_vec3());
         tally.rays += 1;
-        match f.intersect(&ray, 0.0, f32::INFINITY) {
+        match modes.intersect(f, &ray, 0.0, f32::INFINITY) {
             Some(hit) if hit.t <= 1.0 + 1e-5 => {}
             other => tally.leaks.push(format!(
                 "target {target_obj:?} elevation {:.1}° origin {origin_obj:?}: {other:?} \
@@ -124,12 +128,14 @@ fn rays_aimed_at_every_vertex_and_shared_edge_never_leak() {
             .unwrap()
             .with_transform(transform);
         let to_world = *transform.to_world();
+        let mut modes = Modes::new(&f);
         let h = |x: u32, z: u32| f.height(x, z) as f64;
         let obj = |u: f64, v: f64, y: f64| DVec3::new(u / (w - 1) as f64, y, v / (d - 1) as f64);
         for z in 1..d - 1 {
             for x in 1..w - 1 {
                 // The interior vertex itself.
                 check_target(
+                    &mut modes,
                     &f,
                     &to_world,
                     obj(x as f64, z as f64, h(x, z)),
@@ -146,7 +152,7 @@ fn rays_aimed_at_every_vertex_and_shared_edge_never_leak() {
                     (h(x + 1, z - 1) + h(x, z)) / 2.0,
                 );
                 for t in [ex, ez, ed] {
-                    check_target(&f, &to_world, t, &mut rng, &mut tally);
+                    check_target(&mut modes, &f, &to_world, t, &mut rng, &mut tally);
                 }
             }
         }
@@ -177,11 +183,12 @@ fn vertical_rays_exactly_through_every_vertex_hit_at_its_height() {
     for _ in 0..20 {
         let data = random_heights(&mut rng, 17, 9);
         let f = HeightField::new(Samples::U8(&data), 17, 9, HeightConvention::Indexed).unwrap();
+        let mut modes = Modes::new(&f);
         for z in 0..9u32 {
             for x in 0..17u32 {
                 let o = Vec3::new(x as f32 / 16.0, 2.0, z as f32 / 8.0);
-                let hit = f
-                    .intersect(&Ray::new(o, Vec3::NEG_Y), 0.0, f32::INFINITY)
+                let hit = modes
+                    .intersect(&f, &Ray::new(o, Vec3::NEG_Y), 0.0, f32::INFINITY)
                     .unwrap_or_else(|| panic!("vertex ({x}, {z}) leaked"));
                 assert_eq!(hit.point.y, f.height(x, z), "vertex ({x}, {z})");
             }

@@ -1,10 +1,15 @@
 //! The cases where published height-field and voxel traversals break, one
-//! test each, with the expected answer and why.
+//! test each, with the expected answer and why. Every query runs in every
+//! traversal mode (flat walk and skip walks over several skip-grid layouts,
+//! asserted bit-identical: `common/modes.rs`).
 //!
 //! Fields use the indexed convention (height = index / 256) so expected
 //! heights are exact binary fractions, and widths of 2^k + 1 so vertex
 //! positions are exact in `f32`.
 
+mod common;
+
+use common::modes::Modes;
 use hfray::glam::{DVec3, Vec3};
 use hfray::{FieldHit, HeightConvention, HeightField, Ray, Samples, Transform, Triangle};
 
@@ -15,7 +20,13 @@ fn field(data: &[u8], w: u32, d: u32) -> HeightField<'_> {
 }
 
 fn cast(f: &HeightField<'_>, o: [f32; 3], d: [f32; 3]) -> Option<FieldHit> {
-    f.intersect(&Ray::new(Vec3::from(o), Vec3::from(d)), 0.0, INF)
+    hit(f, &Ray::new(Vec3::from(o), Vec3::from(d)), 0.0, INF)
+}
+
+/// `f.intersect` in every traversal mode (asserted bit-identical to the
+/// flat walk, and `occludes` consistent with it); the flat answer.
+fn hit(f: &HeightField<'_>, ray: &Ray, t_min: f32, t_max: f32) -> Option<FieldHit> {
+    Modes::new(f).intersect(f, ray, t_min, t_max)
 }
 
 /// Object-space surface height under (x, z) by the POV-Ray split, f64.
@@ -184,11 +195,11 @@ fn ray_ending_inside_the_box_before_the_surface_misses() {
     let data = [128u8; 25];
     let f = field(&data, 5, 5);
     let ray = Ray::new(Vec3::new(0.4, 1.0, 0.4), Vec3::new(0.0, -1.0, 0.0));
-    assert!(f.intersect(&ray, 0.0, 0.49).is_none());
+    assert!(hit(&f, &ray, 0.0, 0.49).is_none());
     // Ending exactly on the surface still reaches it.
-    assert_eq!(f.intersect(&ray, 0.0, 0.5).unwrap().t, 0.5);
+    assert_eq!(hit(&f, &ray, 0.0, 0.5).unwrap().t, 0.5);
     // Starting past it misses too.
-    assert!(f.intersect(&ray, 0.51, INF).is_none());
+    assert!(hit(&f, &ray, 0.51, INF).is_none());
 }
 
 #[test]
@@ -327,8 +338,7 @@ fn rays_from_every_octant_hit_the_surface_where_it_is() {
     for octant in 0..8 {
         let s = |bit: u32| if octant & (1 << bit) == 0 { -1.0 } else { 1.0 };
         let origin = peak + Vec3::new(s(0) * 1.3, s(1) * 1.1, s(2) * 0.7);
-        let hit = f
-            .intersect(&Ray::new(origin, peak - origin), 0.0, INF)
+        let hit = hit(&f, &Ray::new(origin, peak - origin), 0.0, INF)
             .unwrap_or_else(|| panic!("octant {octant} missed"));
         assert!(hit.t <= 1.0 + 1e-6, "octant {octant}: {hit:?}");
         let h = surface(&f, hit.point.x as f64, hit.point.z as f64);
@@ -353,7 +363,7 @@ fn non_finite_and_degenerate_rays_miss_cleanly() {
         let _ = cast(&f, o, d); // must return, not panic or hang
     }
     let ray = Ray::new(Vec3::new(0.5, 1.0, 0.5), Vec3::new(0.0, -1.0, 0.0));
-    assert!(f.intersect(&ray, f32::NAN, INF).is_none());
-    assert!(f.intersect(&ray, 1.0, 0.5).is_none());
+    assert!(hit(&f, &ray, f32::NAN, INF).is_none());
+    assert!(hit(&f, &ray, 1.0, 0.5).is_none());
     assert!(cast(&f, [0.5, 1.0, 0.5], [0.0, 0.0, 0.0]).is_none());
 }

@@ -1,5 +1,6 @@
 //! The traversal against the f64 brute-force oracle on random fields and
-//! rays: identical hit/miss, the same cell and triangle, and the same
+//! rays, in every traversal mode (each asserted bit-identical to the flat
+//! walk, see `common/modes.rs`): identical hit/miss, the same cell and triangle, and the same
 //! distance, except where the oracle itself finds the ray within `eps` of a
 //! decision boundary (an edge, a vertex, the water line, a range bound, a
 //! grazing plane). Those are counted and reported, never silently passed.
@@ -17,6 +18,7 @@
 
 mod common;
 
+use common::modes::Modes;
 use common::oracle::{OracleField, Verdict};
 use common::{random_heights, Rng};
 use hfray::glam::{DAffine3, DVec3, Vec3};
@@ -128,6 +130,7 @@ struct Tolerance {
 }
 
 fn compare<S: Real>(
+    modes: &mut Modes,
     field: &HeightField<'_>,
     oracle: &OracleField,
     case: &Case,
@@ -138,7 +141,9 @@ fn compare<S: Real>(
     let Case { o, d, t_min, t_max } = *case;
     let Tolerance { eps, t_tol } = *tol;
     let mut counters = Counters::default();
-    let ours: Option<GridHit<S>> = field.intersect_in::<S>(
+    // Every traversal mode, asserted bit-identical to the flat walk.
+    let ours: Option<GridHit<S>> = modes.intersect_in::<S>(
+        field,
         o.to_array().map(S::from_f32),
         d.to_array().map(S::from_f32),
         S::from_f32(t_min),
@@ -233,6 +238,7 @@ fn run(seed: u64, fields: u32, rays_per_field: u32, f64_path: bool) -> Tally {
             water as f64,
             *transform.to_world(),
         );
+        let mut modes = Modes::new(&field);
         let what = format!(
             "field {w}x{dd} {convention:?} water={water} first={:?}",
             &data[..4]
@@ -251,13 +257,13 @@ fn run(seed: u64, fields: u32, rays_per_field: u32, f64_path: bool) -> Tally {
                     eps: 1e-9,
                     t_tol: 1e-9,
                 };
-                compare::<f64>(&field, &oracle, &case, &tol, &mut tally, &what);
+                compare::<f64>(&mut modes, &field, &oracle, &case, &tol, &mut tally, &what);
             } else {
                 let tol = Tolerance {
                     eps: 1e-4,
                     t_tol: 1e-5,
                 };
-                compare::<f32>(&field, &oracle, &case, &tol, &mut tally, &what);
+                compare::<f32>(&mut modes, &field, &oracle, &case, &tol, &mut tally, &what);
             }
         }
     }

@@ -2,6 +2,7 @@
 //! builders and the f64 brute-force oracle.
 #![allow(dead_code)]
 
+pub mod modes;
 pub mod oracle;
 
 /// SplitMix64: deterministic, seedable, no dependencies.

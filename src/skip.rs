@@ -1,0 +1,499 @@
+//! A skip structure over a height field: a pyramid of per-block minimum
+//! and maximum sample values, in memory the caller provides.
+//!
+//! Level `l` (1-based) covers the field with square blocks of
+//! `2^(block_log2 · l)` cells per side (the last block of a row or column
+//! may be smaller). Each block stores the minimum and maximum *raw sample*
+//! over every vertex of its cells, as `u8` for 8-bit fields and `u16` for
+//! 16-bit fields. The walk ([`crate::traversal`]) skips a whole block when
+//! the ray's height over the block's parameter range is above its maximum,
+//! below its minimum or below the water level: exactly when the per-cell
+//! cull would have culled every cell of it, so a skip changes no answer
+//! (see the traversal's documentation for the proof, and `tests/modes.rs`).
+//!
+//! Memory: [`SkipGrid::bytes_needed`] bytes, a [`HEADER_BYTES`]-byte header
+//! followed by the levels, finest first, each row-major `[min, max]` pairs
+//! (little-endian `u16` for 16-bit fields). For an 8-bit `N × N` field with
+//! `block_log2 = 3` (8-cell blocks) that is about `2·N²/64` bytes: 8 KiB at
+//! 512², 514 KiB at 4096². The bytes can be built once with
+//! [`SkipGrid::build`] and stored (e.g. in flash), then borrowed with
+//! [`SkipGrid::from_precomputed`], which checks the header and size.
+
+use crate::heightfield::{HeightField, Samples};
+
+/// Bytes of the header that starts every skip grid.
+pub const HEADER_BYTES: usize = 16;
+/// The most levels a skip grid may have.
+pub const MAX_LEVELS: u8 = 8;
+const MAGIC: [u8; 4] = *b"HFSK";
+const VERSION: u8 = 1;
+
+/// The shape of a skip pyramid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SkipLayout {
+    /// Level-1 blocks are `2^block_log2` cells per side, and each level's
+    /// blocks are `2^block_log2` blocks of the level below per side.
+    /// `1..=8`.
+    pub block_log2: u8,
+    /// Number of levels, `1..=`[`MAX_LEVELS`]. Levels whose blocks would
+    /// cover the whole field are useless (the field's own height range
+    /// already bounds the walk); [`SkipLayout::pyramid`] stops before them.
+    pub levels: u8,
+}
+
+impl SkipLayout {
+    /// One level of `2^block_log2`-cell blocks (POV-Ray-style block grid).
+    pub const fn blocks(block_log2: u8) -> Self {
+        SkipLayout {
+            block_log2,
+            levels: 1,
+        }
+    }
+
+    /// As many levels of fan-out `2^block_log2` as a `width × depth` field
+    /// can use: the coarsest level still has at least 2 blocks along the
+    /// field's longer side.
+    pub fn pyramid(width: u32, depth: u32, block_log2: u8) -> Self {
+        let cells = width.max(depth).saturating_sub(1).max(1);
+        let mut levels = 1u8;
+        while levels < MAX_LEVELS {
+            let shift = block_log2 as u32 * (levels as u32 + 1);
+            if shift >= 31 || (cells >> shift) == 0 || (1u32 << shift) >= cells {
+                break;
+            }
+            levels += 1;
+        }
+        SkipLayout { block_log2, levels }
+    }
+
+    fn check(&self) -> Result<(), SkipError> {
+        if !(1..=8).contains(&self.block_log2) || !(1..=MAX_LEVELS).contains(&self.levels) {
+            return Err(SkipError::Layout {
+                block_log2: self.block_log2,
+                levels: self.levels,
+            });
+        }
+        if self.block_log2 as u32 * self.levels as u32 > 30 {
+            return Err(SkipError::Layout {
+                block_log2: self.block_log2,
+                levels: self.levels,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Why a skip grid could not be built, read or attached.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SkipError {
+    /// `block_log2` outside `1..=8`, `levels` outside `1..=MAX_LEVELS`, or
+    /// blocks wider than `2^30` cells.
+    Layout {
+        /// The requested `block_log2`.
+        block_log2: u8,
+        /// The requested level count.
+        levels: u8,
+    },
+    /// The buffer does not have the size the layout needs.
+    Size {
+        /// Bytes the layout needs.
+        expected: usize,
+        /// Bytes given.
+        actual: usize,
+    },
+    /// The header does not start with `HFSK` version 1.
+    Header,
+    /// The grid was made for a field of another size or sample width.
+    FieldMismatch {
+        /// `(width, depth, bytes per sample)` recorded in the grid.
+        grid: (u32, u32, u8),
+        /// The same for the field.
+        field: (u32, u32, u8),
+    },
+    /// [`SkipGrid::verify`] found a block whose bounds are not the field's.
+    Content {
+        /// Level of the first wrong block (1-based).
+        level: u8,
+        /// Its block column.
+        block_x: u32,
+        /// Its block row (from the `z = 0` edge).
+        block_z: u32,
+    },
+}
+
+impl core::fmt::Display for SkipError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            SkipError::Layout { block_log2, levels } => write!(
+                f,
+                "skip layout block_log2={block_log2} levels={levels}: need block_log2 in 1..=8, \
+                 levels in 1..={MAX_LEVELS}, blocks at most 2^30 cells"
+            ),
+            SkipError::Size { expected, actual } => write!(
+                f,
+                "skip grid needs {expected} bytes but the buffer has {actual}"
+            ),
+            SkipError::Header => f.write_str("skip grid header is not HFSK version 1"),
+            SkipError::FieldMismatch { grid, field } => write!(
+                f,
+                "skip grid was made for a {}x{} field of {}-byte samples, not {}x{} of {}-byte",
+                grid.0, grid.1, grid.2, field.0, field.1, field.2
+            ),
+            SkipError::Content {
+                level,
+                block_x,
+                block_z,
+            } => write!(
+                f,
+                "skip grid block ({block_x}, {block_z}) of level {level} does not bound the field"
+            ),
+        }
+    }
+}
+
+/// A borrowed min/max pyramid over one height field's samples.
+#[derive(Debug, Clone, Copy)]
+pub struct SkipGrid<'a> {
+    bytes: &'a [u8],
+    width: u32,
+    depth: u32,
+    /// 1 or 2.
+    sample_bytes: u8,
+    block_log2: u8,
+    levels: u8,
+    /// Byte offset of each level's first entry, and its blocks per row.
+    offsets: [u32; MAX_LEVELS as usize],
+    blocks_u: [u32; MAX_LEVELS as usize],
+}
+
+fn div_ceil_shift(n: u32, shift: u32) -> u32 {
+    if shift >= 32 {
+        return 1;
+    }
+    ((n as u64 + (1u64 << shift) - 1) >> shift) as u32
+}
+
+/// Per-level sizes: (offsets, blocks per row, total bytes).
+fn plan(
+    width: u32,
+    depth: u32,
+    sample_bytes: u8,
+    layout: SkipLayout,
+) -> Result<
+    (
+        [u32; MAX_LEVELS as usize],
+        [u32; MAX_LEVELS as usize],
+        usize,
+    ),
+    SkipError,
+> {
+    layout.check()?;
+    let cells_u = width.saturating_sub(1).max(1);
+    let cells_v = depth.saturating_sub(1).max(1);
+    let mut offsets = [0u32; MAX_LEVELS as usize];
+    let mut blocks_u = [0u32; MAX_LEVELS as usize];
+    let mut total = HEADER_BYTES as u64;
+    for l in 0..layout.levels as usize {
+        let shift = layout.block_log2 as u32 * (l as u32 + 1);
+        let bu = div_ceil_shift(cells_u, shift);
+        let bv = div_ceil_shift(cells_v, shift);
+        offsets[l] = total as u32;
+        blocks_u[l] = bu;
+        total += bu as u64 * bv as u64 * 2 * sample_bytes as u64;
+        if total > u32::MAX as u64 {
+            return Err(SkipError::Layout {
+                block_log2: layout.block_log2,
+                levels: layout.levels,
+            });
+        }
+    }
+    Ok((offsets, blocks_u, total as usize))
+}
+
+fn sample_bytes(field: &HeightField<'_>) -> u8 {
+    match field.samples() {
+        Samples::U8(_) => 1,
+        Samples::U16(_) => 2,
+    }
+}
+
+impl<'a> SkipGrid<'a> {
+    /// Bytes a skip grid of `layout` over a `width × depth` field of
+    /// `sample_bytes`-byte samples (1 or 2) needs, header included.
+    pub fn bytes_needed(
+        width: u32,
+        depth: u32,
+        sample_bytes: u8,
+        layout: SkipLayout,
+    ) -> Result<usize, SkipError> {
+        let sb = if sample_bytes >= 2 { 2 } else { 1 };
+        plan(width, depth, sb, layout).map(|p| p.2)
+    }
+
+    /// [`bytes_needed`](Self::bytes_needed) for `field`.
+    pub fn bytes_needed_for(
+        field: &HeightField<'_>,
+        layout: SkipLayout,
+    ) -> Result<usize, SkipError> {
+        Self::bytes_needed(field.width(), field.depth(), sample_bytes(field), layout)
+    }
+
+    /// Builds the pyramid of `field` into `buffer`, which must be exactly
+    /// [`bytes_needed_for`](Self::bytes_needed_for) bytes long. Reads every
+    /// sample about once (level 1), then combines levels; no allocation.
+    pub fn build(
+        field: &HeightField<'_>,
+        layout: SkipLayout,
+        buffer: &'a mut [u8],
+    ) -> Result<Self, SkipError> {
+        let sb = sample_bytes(field);
+        let (width, depth) = (field.width(), field.depth());
+        let (offsets, blocks_u, total) = plan(width, depth, sb, layout)?;
+        if buffer.len() != total {
+            return Err(SkipError::Size {
+                expected: total,
+                actual: buffer.len(),
+            });
+        }
+        write_header(buffer, width, depth, sb, layout);
+        let cells_u = width - 1;
+        let cells_v = depth - 1;
+        // Level 1 from the samples.
+        let side = 1u32 << layout.block_log2;
+        let bu = blocks_u[0];
+        let bv = div_ceil_shift(cells_v, layout.block_log2 as u32);
+        for bj in 0..bv {
+            let z0 = bj * side;
+            let z1 = (z0 + side).min(cells_v);
+            for bi in 0..bu {
+                let x0 = bi * side;
+                let x1 = (x0 + side).min(cells_u);
+                let (mut lo, mut hi) = (u32::MAX, 0u32);
+                // Every vertex of the block's cells: at most (side+1)² reads.
+                for z in z0..=z1 {
+                    for x in x0..=x1 {
+                        let v = field.raw_sample(x, z);
+                        lo = lo.min(v);
+                        hi = hi.max(v);
+                    }
+                }
+                put(buffer, offsets[0], bu, sb, bi, bj, lo, hi);
+            }
+        }
+        // Higher levels from the level below.
+        let fan = 1u32 << layout.block_log2;
+        for l in 1..layout.levels as usize {
+            let shift = layout.block_log2 as u32 * (l as u32 + 1);
+            let bu = blocks_u[l];
+            let bv = div_ceil_shift(cells_v, shift);
+            let (cu, cv) = (
+                blocks_u[l - 1],
+                div_ceil_shift(cells_v, shift - layout.block_log2 as u32),
+            );
+            for bj in 0..bv {
+                for bi in 0..bu {
+                    let (mut lo, mut hi) = (u32::MAX, 0u32);
+                    for cj in bj * fan..((bj + 1) * fan).min(cv) {
+                        for ci in bi * fan..((bi + 1) * fan).min(cu) {
+                            let (a, b) = get(buffer, offsets[l - 1], cu, sb, ci, cj);
+                            lo = lo.min(a);
+                            hi = hi.max(b);
+                        }
+                    }
+                    put(buffer, offsets[l], bu, sb, bi, bj, lo, hi);
+                }
+            }
+        }
+        Ok(SkipGrid {
+            bytes: buffer,
+            width,
+            depth,
+            sample_bytes: sb,
+            block_log2: layout.block_log2,
+            levels: layout.levels,
+            offsets,
+            blocks_u,
+        })
+    }
+
+    /// Borrows a grid built earlier (for example by [`build`](Self::build)
+    /// on a host and stored in flash). Checks the header, the size and that
+    /// it was made for a field of `field`'s size and sample width; the
+    /// contents are trusted (a grid whose bounds are not the field's makes
+    /// the walk skip surface). [`verify`](Self::verify) checks them, in
+    /// time proportional to the field.
+    pub fn from_precomputed(bytes: &'a [u8], field: &HeightField<'_>) -> Result<Self, SkipError> {
+        if bytes.len() < HEADER_BYTES {
+            return Err(SkipError::Size {
+                expected: HEADER_BYTES,
+                actual: bytes.len(),
+            });
+        }
+        if bytes[0..4] != MAGIC || bytes[4] != VERSION {
+            return Err(SkipError::Header);
+        }
+        let sb = bytes[5];
+        let layout = SkipLayout {
+            block_log2: bytes[6],
+            levels: bytes[7],
+        };
+        let width = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+        let depth = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]);
+        let field_key = (field.width(), field.depth(), sample_bytes(field));
+        if (width, depth, sb) != field_key {
+            return Err(SkipError::FieldMismatch {
+                grid: (width, depth, sb),
+                field: field_key,
+            });
+        }
+        let (offsets, blocks_u, total) = plan(width, depth, sb, layout)?;
+        if bytes.len() != total {
+            return Err(SkipError::Size {
+                expected: total,
+                actual: bytes.len(),
+            });
+        }
+        Ok(SkipGrid {
+            bytes,
+            width,
+            depth,
+            sample_bytes: sb,
+            block_log2: layout.block_log2,
+            levels: layout.levels,
+            offsets,
+            blocks_u,
+        })
+    }
+
+    /// Checks every block's bounds against `field`'s samples (no
+    /// allocation; time proportional to the field times the level count).
+    pub fn verify(&self, field: &HeightField<'_>) -> Result<(), SkipError> {
+        let field_key = (field.width(), field.depth(), sample_bytes(field));
+        let grid_key = (self.width, self.depth, self.sample_bytes);
+        if grid_key != field_key {
+            return Err(SkipError::FieldMismatch {
+                grid: grid_key,
+                field: field_key,
+            });
+        }
+        let (cells_u, cells_v) = (self.width - 1, self.depth - 1);
+        for l in 1..=self.levels {
+            let shift = self.block_log2 as u32 * l as u32;
+            let side = 1u64 << shift;
+            let bu = self.blocks_u[l as usize - 1];
+            let bv = div_ceil_shift(cells_v, shift);
+            for bj in 0..bv {
+                for bi in 0..bu {
+                    let x0 = (bi as u64 * side) as u32;
+                    let x1 = (bi as u64 * side + side).min(cells_u as u64) as u32;
+                    let z0 = (bj as u64 * side) as u32;
+                    let z1 = (bj as u64 * side + side).min(cells_v as u64) as u32;
+                    let (mut lo, mut hi) = (u32::MAX, 0u32);
+                    for z in z0..=z1 {
+                        for x in x0..=x1 {
+                            let v = field.raw_sample(x, z);
+                            lo = lo.min(v);
+                            hi = hi.max(v);
+                        }
+                    }
+                    if self.raw_bounds(l, bi, bj) != (lo, hi) {
+                        return Err(SkipError::Content {
+                            level: l,
+                            block_x: bi,
+                            block_z: bj,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The layout this grid was built with.
+    pub fn layout(&self) -> SkipLayout {
+        SkipLayout {
+            block_log2: self.block_log2,
+            levels: self.levels,
+        }
+    }
+
+    /// The whole grid, header included, as stored (to save it for
+    /// [`from_precomputed`](Self::from_precomputed)).
+    pub fn as_bytes(&self) -> &'a [u8] {
+        self.bytes
+    }
+
+    /// Field width the grid was made for.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Field depth the grid was made for.
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// Bytes per stored bound (1 for 8-bit fields, 2 for 16-bit).
+    pub fn sample_bytes(&self) -> u8 {
+        self.sample_bytes
+    }
+
+    /// `(min, max)` raw sample of block `(bi, bj)` of `level` (1-based).
+    /// Panics if out of range.
+    #[inline]
+    pub fn raw_bounds(&self, level: u8, bi: u32, bj: u32) -> (u32, u32) {
+        let l = level as usize - 1;
+        get(
+            self.bytes,
+            self.offsets[l],
+            self.blocks_u[l],
+            self.sample_bytes,
+            bi,
+            bj,
+        )
+    }
+
+    pub(crate) fn levels(&self) -> u8 {
+        self.levels
+    }
+
+    pub(crate) fn block_log2(&self) -> u8 {
+        self.block_log2
+    }
+}
+
+fn write_header(buffer: &mut [u8], width: u32, depth: u32, sb: u8, layout: SkipLayout) {
+    buffer[0..4].copy_from_slice(&MAGIC);
+    buffer[4] = VERSION;
+    buffer[5] = sb;
+    buffer[6] = layout.block_log2;
+    buffer[7] = layout.levels;
+    buffer[8..12].copy_from_slice(&width.to_le_bytes());
+    buffer[12..16].copy_from_slice(&depth.to_le_bytes());
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn put(buffer: &mut [u8], offset: u32, bu: u32, sb: u8, bi: u32, bj: u32, lo: u32, hi: u32) {
+    let index = (bj as usize * bu as usize + bi as usize) * 2 * sb as usize + offset as usize;
+    if sb == 1 {
+        buffer[index] = lo as u8;
+        buffer[index + 1] = hi as u8;
+    } else {
+        buffer[index..index + 2].copy_from_slice(&(lo as u16).to_le_bytes());
+        buffer[index + 2..index + 4].copy_from_slice(&(hi as u16).to_le_bytes());
+    }
+}
+
+#[inline]
+fn get(bytes: &[u8], offset: u32, bu: u32, sb: u8, bi: u32, bj: u32) -> (u32, u32) {
+    let index = (bj as usize * bu as usize + bi as usize) * 2 * sb as usize + offset as usize;
+    if sb == 1 {
+        (bytes[index] as u32, bytes[index + 1] as u32)
+    } else {
+        (
+            u16::from_le_bytes([bytes[index], bytes[index + 1]]) as u32,
+            u16::from_le_bytes([bytes[index + 2], bytes[index + 3]]) as u32,
+        )
+    }
+}

@@ -1,0 +1,142 @@
+//! Every traversal mode on one field, asserting bit-identical answers.
+//!
+//! `Modes::new(&field)` builds skip grids of several layouts (2-, 4- and
+//! 8-cell blocks, one level and full pyramids); every query runs the flat
+//! walk and each (layout, mode) pair and panics unless all agree to the
+//! bit. The flat answer is returned, so a suite written against the flat
+//! walk (oracle, hard cases, cracks) checks every mode at once.
+
+use hfray::traversal::GridHit;
+use hfray::{Counters, FieldHit, HeightField, Ray, Real, SkipGrid, SkipLayout, Traversal};
+
+pub struct Modes {
+    grids: Vec<(SkipLayout, Vec<u8>)>,
+    /// Queries answered (each by every mode).
+    pub queries: u64,
+}
+
+/// Layouts checked: one level of small blocks (many jumps, many block
+/// edges) and pyramids of fan-out 2, 4 and 8.
+pub fn layouts(width: u32, depth: u32) -> Vec<SkipLayout> {
+    vec![
+        SkipLayout::blocks(1),
+        SkipLayout::blocks(2),
+        SkipLayout::pyramid(width, depth, 1),
+        SkipLayout::pyramid(width, depth, 2),
+        SkipLayout::pyramid(width, depth, 3),
+    ]
+}
+
+fn same_grid_hit<S: Real>(a: &Option<GridHit<S>>, b: &Option<GridHit<S>>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(a), Some(b)) => {
+            a.t.to_f64().to_bits() == b.t.to_f64().to_bits()
+                && a.cell_x == b.cell_x
+                && a.cell_z == b.cell_z
+                && a.triangle == b.triangle
+                && a.local.0.to_f64().to_bits() == b.local.0.to_f64().to_bits()
+                && a.local.1.to_f64().to_bits() == b.local.1.to_f64().to_bits()
+        }
+        _ => false,
+    }
+}
+
+impl Modes {
+    pub fn new(field: &HeightField<'_>) -> Self {
+        let mut grids = Vec::new();
+        for layout in layouts(field.width(), field.depth()) {
+            let n = SkipGrid::bytes_needed_for(field, layout).unwrap();
+            let mut buf = vec![0u8; n];
+            SkipGrid::build(field, layout, &mut buf).unwrap();
+            grids.push((layout, buf));
+        }
+        Modes { grids, queries: 0 }
+    }
+
+    /// Calls `f` with the field in every (layout, mode) other than flat.
+    fn each<'f, R>(
+        &self,
+        field: &HeightField<'f>,
+        mut f: impl FnMut(&HeightField<'_>, String) -> R,
+    ) -> Vec<(String, R)> {
+        let mut out = Vec::new();
+        for (layout, buf) in &self.grids {
+            let grid = SkipGrid::from_precomputed(buf, field).unwrap();
+            for mode in [Traversal::Blocks, Traversal::Hierarchy] {
+                let g = field.clone().with_skip(grid).unwrap().with_traversal(mode);
+                let name = format!("{mode:?} {layout:?}");
+                let r = f(&g, name.clone());
+                out.push((name, r));
+            }
+        }
+        out
+    }
+
+    /// `intersect_in::<S>` in every mode; panics on any disagreement.
+    pub fn intersect_in<S: Real>(
+        &mut self,
+        field: &HeightField<'_>,
+        o: [S; 3],
+        d: [S; 3],
+        t_min: S,
+        t_max: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        self.queries += 1;
+        let flat = field.clone().with_traversal(Traversal::Flat);
+        let reference = flat.intersect_in::<S>(o, d, t_min, t_max, counters);
+        for (name, r) in self.each(field, |g, _| {
+            g.intersect_in::<S>(o, d, t_min, t_max, &mut Counters::default())
+        }) {
+            assert!(
+                same_grid_hit(&reference, &r),
+                "mode {name} differs from the flat walk: {r:?} vs {reference:?} \
+                 (o={o:?} d={d:?} t=[{t_min:?},{t_max:?}] field {}x{})",
+                field.width(),
+                field.depth()
+            );
+        }
+        reference
+    }
+
+    /// `intersect` (f32) in every mode; panics on any disagreement.
+    pub fn intersect(
+        &mut self,
+        field: &HeightField<'_>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<FieldHit> {
+        self.queries += 1;
+        let flat = field.clone().with_traversal(Traversal::Flat);
+        let reference = flat.intersect(ray, t_min, t_max);
+        let occluded = flat.occludes(ray, t_min, t_max, &mut Counters::default());
+        assert_eq!(occluded, reference.is_some());
+        for (name, (r, occ)) in self.each(field, |g, _| {
+            (
+                g.intersect(ray, t_min, t_max),
+                g.occludes(ray, t_min, t_max, &mut Counters::default()),
+            )
+        }) {
+            let same = match (&reference, &r) {
+                (None, None) => true,
+                (Some(a), Some(b)) => {
+                    a.t.to_bits() == b.t.to_bits()
+                        && (a.cell_x, a.cell_z, a.triangle) == (b.cell_x, b.cell_z, b.triangle)
+                        && a.local.0.to_bits() == b.local.0.to_bits()
+                        && a.local.1.to_bits() == b.local.1.to_bits()
+                }
+                _ => false,
+            };
+            assert!(
+                same && occ == occluded,
+                "mode {name} differs from the flat walk: {r:?} vs {reference:?} \
+                 (ray {ray:?} t=[{t_min},{t_max}] field {}x{})",
+                field.width(),
+                field.depth()
+            );
+        }
+        reference
+    }
+}

@@ -1,0 +1,431 @@
+//! Traversal modes: the skip walks (`Blocks`, `Hierarchy`, over skip grids
+//! of several layouts) give bit-identical hits to the flat walk, and do
+//! skip. The oracle, hard-case and crack suites also run every mode (via
+//! `common/modes.rs`); this file adds rays built to stress the block jumps:
+//! exact diagonals and corner crossings, rays along grid lines, axis-
+//! parallel rays, origins so far away that neighbouring grid lines round
+//! to the same `t` (the jump's strictness fallback and its mirrored form),
+//! short `t` ranges that end inside blocks, rays from below, water levels,
+//! 16-bit fields; plus the skip grid's own API (sizes, header checks,
+//! verification).
+
+mod common;
+
+use common::modes::Modes;
+use common::{random_heights, Rng};
+use hfray::{
+    Counters, HeightConvention, HeightField, Real, Samples, SkipError, SkipGrid, SkipLayout,
+    Traversal,
+};
+
+/// A fractal-ish terrain with valleys and plateaus (deterministic).
+fn terrain(rng: &mut Rng, w: u32, d: u32) -> Vec<u8> {
+    let (a, b, c) = (
+        rng.range(0.01, 0.2),
+        rng.range(0.01, 0.2),
+        rng.range(0.0, 6.0),
+    );
+    (0..w * d)
+        .map(|i| {
+            let (x, z) = ((i % w) as f64, (i / w) as f64);
+            let v = 0.5
+                + 0.25 * (x * a + c).sin() * (z * b).cos()
+                + 0.15 * (x * a * 3.1 + z * b * 2.3).sin()
+                + 0.1 * (x * 0.71 + z * 1.37).sin();
+            (v.clamp(0.0, 1.0) * 255.0) as u8
+        })
+        .collect()
+}
+
+/// Rays in grid space (cell = 1), designed to stress block exits.
+fn adversarial_ray(rng: &mut Rng, cu: f64, cv: f64) -> ([f64; 3], [f64; 3], f64, f64) {
+    let int_u = |rng: &mut Rng| rng.int(0, cu as u32) as f64;
+    let int_v = |rng: &mut Rng| rng.int(0, cv as u32) as f64;
+    let y_above = |rng: &mut Rng| rng.range(0.5, 2.0);
+    let (o, d) = match rng.int(0, 9) {
+        // Exact diagonal through vertices: every step is a corner.
+        0 => {
+            let s = if rng.chance(0.5) { 1.0 } else { -1.0 };
+            let k = [1.0, 2.0, 0.5, 3.0][rng.int(0, 3) as usize];
+            (
+                [int_u(rng), y_above(rng), int_v(rng)],
+                [
+                    s * k,
+                    -rng.range(0.0, 0.05),
+                    k * if rng.chance(0.5) { 1.0 } else { -1.0 },
+                ],
+            )
+        }
+        // Along a grid line (u integer, du = 0), or v.
+        1 => (
+            [int_u(rng), y_above(rng), rng.range(-2.0, cv + 2.0)],
+            [0.0, -rng.range(0.0, 0.05), rng.range(-1.0, 1.0)],
+        ),
+        2 => (
+            [rng.range(-2.0, cu + 2.0), y_above(rng), int_v(rng)],
+            [rng.range(-1.0, 1.0), -rng.range(0.0, 0.05), -0.0],
+        ),
+        // Rational slopes from vertices: frequent exact corner crossings.
+        3 => {
+            let p = rng.int(1, 4) as f64;
+            let q = rng.int(1, 4) as f64;
+            let su = if rng.chance(0.5) { 1.0 } else { -1.0 };
+            let sv = if rng.chance(0.5) { 1.0 } else { -1.0 };
+            (
+                [int_u(rng), y_above(rng), int_v(rng)],
+                [su * p, -rng.range(0.0, 0.1), sv * q],
+            )
+        }
+        // Far away: neighbouring boundaries round to the same t in f32
+        // along one axis (mirrored jump) or both (flat fallback).
+        4 => {
+            let far = 10f64.powf(rng.range(4.0, 8.0));
+            let (ou, ov) = match rng.int(0, 2) {
+                0 => (-far, rng.range(0.0, cv)),
+                1 => (rng.range(0.0, cu), far),
+                _ => (far, -far),
+            };
+            let target = [rng.range(0.0, cu), rng.range(0.0, 0.6), rng.range(0.0, cv)];
+            let o = [ou, rng.range(0.5, 3.0), ov];
+            (o, [target[0] - o[0], target[1] - o[1], target[2] - o[2]])
+        }
+        // Grazing, long, over the whole field.
+        5 => {
+            let o = [
+                rng.range(-1.0, cu + 1.0),
+                rng.range(0.3, 1.2),
+                rng.range(-1.0, cv + 1.0),
+            ];
+            let t = [rng.range(0.0, cu), rng.range(0.0, 0.7), rng.range(0.0, cv)];
+            (o, [t[0] - o[0], t[1] - o[1], t[2] - o[2]])
+        }
+        // From below the surface, going up or sideways.
+        6 => (
+            [rng.range(0.0, cu), rng.range(-0.5, 0.3), rng.range(0.0, cv)],
+            [
+                rng.range(-1.0, 1.0),
+                rng.range(-0.02, 0.05),
+                rng.range(-1.0, 1.0),
+            ],
+        ),
+        // Tiny horizontal component (nearly vertical) or huge one.
+        7 => {
+            let e = 10f64.powf(rng.range(-9.0, -3.0));
+            (
+                [rng.range(0.0, cu), y_above(rng), rng.range(0.0, cv)],
+                [e * rng.range(-1.0, 1.0), -1.0, e * rng.range(-1.0, 1.0)],
+            )
+        }
+        // Random.
+        _ => {
+            let o = [
+                rng.range(-cu, 2.0 * cu),
+                rng.range(-1.0, 3.0),
+                rng.range(-cv, 2.0 * cv),
+            ];
+            let t = [rng.range(0.0, cu), rng.range(0.0, 1.0), rng.range(0.0, cv)];
+            (o, [t[0] - o[0], t[1] - o[1], t[2] - o[2]])
+        }
+    };
+    let (t_min, t_max) = if rng.chance(0.7) {
+        (0.0, f64::INFINITY)
+    } else {
+        let a = rng.range(0.0, 1.0);
+        (a, a + rng.range(0.0, 1.5))
+    };
+    (o, d, t_min, t_max)
+}
+
+fn run_modes<S: Real>(seed: u64, fields: u32, rays: u32, max_side: u32) -> (u64, u64) {
+    let mut rng = Rng::new(seed);
+    let (mut queries, mut hits) = (0u64, 0u64);
+    for _ in 0..fields {
+        let w = rng.int(2, max_side);
+        let d = rng.int(2, max_side);
+        let data = if rng.chance(0.5) {
+            terrain(&mut rng, w, d)
+        } else {
+            random_heights(&mut rng, w, d)
+        };
+        let convention = if rng.chance(0.5) {
+            HeightConvention::Indexed
+        } else {
+            HeightConvention::Gray8
+        };
+        let water = match rng.int(0, 3) {
+            0 => rng.range(0.0, 0.8) as f32,
+            _ => 0.0,
+        };
+        let field = HeightField::new(Samples::U8(&data), w, d, convention)
+            .unwrap()
+            .with_water_level(water)
+            .unwrap();
+        let mut modes = Modes::new(&field);
+        let (cu, cv) = ((w - 1) as f64, (d - 1) as f64);
+        for _ in 0..rays {
+            let (o, dir, t_min, t_max) = adversarial_ray(&mut rng, cu, cv);
+            // Identity transform: object = grid / (side − 1).
+            let o = [o[0] / cu, o[1], o[2] / cv].map(S::from_f64);
+            let dir = [dir[0] / cu, dir[1], dir[2] / cv].map(S::from_f64);
+            let mut counters = Counters::default();
+            let r = modes.intersect_in::<S>(
+                &field,
+                o,
+                dir,
+                S::from_f64(t_min),
+                S::from_f64(t_max),
+                &mut counters,
+            );
+            hits += r.is_some() as u64;
+        }
+        queries += modes.queries;
+    }
+    (queries, hits)
+}
+
+#[test]
+fn every_mode_matches_flat_on_adversarial_rays_f32() {
+    let (q, h) = run_modes::<f32>(11, 300, 250, 140);
+    eprintln!("f32: {q} rays × 10 skip modes, {h} hits");
+    assert!(q >= 75_000 && h > q / 10);
+}
+
+#[test]
+fn every_mode_matches_flat_on_adversarial_rays_f64() {
+    let (q, h) = run_modes::<f64>(12, 300, 250, 140);
+    eprintln!("f64: {q} rays × 10 skip modes, {h} hits");
+    assert!(q >= 75_000 && h > q / 10);
+}
+
+/// A field big enough for a 3-level pyramid: the skip walk visits far
+/// fewer cells than the flat walk, with identical hits.
+#[test]
+fn hierarchy_visits_far_fewer_cells_on_a_large_field() {
+    let mut rng = Rng::new(3);
+    let n = 513;
+    let data = terrain(&mut rng, n, n);
+    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Indexed).unwrap();
+    let layout = SkipLayout::pyramid(n, n, 3);
+    assert_eq!(layout.levels, 2);
+    let mut buf = vec![0u8; SkipGrid::bytes_needed_for(&field, layout).unwrap()];
+    let grid = SkipGrid::build(&field, layout, &mut buf).unwrap();
+    let flat = field.clone().with_traversal(Traversal::Flat);
+    let blocks = field
+        .clone()
+        .with_skip(grid)
+        .unwrap()
+        .with_traversal(Traversal::Blocks);
+    let hier = field.clone().with_skip(grid).unwrap();
+    assert_eq!(hier.traversal(), Traversal::Hierarchy);
+    let (mut cf, mut cb, mut ch) = (
+        Counters::default(),
+        Counters::default(),
+        Counters::default(),
+    );
+    let mut hits = 0;
+    for k in 0..2000 {
+        // A camera over one edge looking across, as in a landscape render.
+        let o = [0.5f32, 1.2, -0.3];
+        let dir = [
+            (k % 50) as f32 / 50.0 - 0.5,
+            -0.25 - 0.3 * (k / 50) as f32 / 40.0,
+            1.0,
+        ];
+        let a = flat.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut cf);
+        let b = blocks.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut cb);
+        let c = hier.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut ch);
+        assert_eq!(a, b);
+        assert_eq!(a, c);
+        hits += a.is_some() as u32;
+    }
+    eprintln!(
+        "cells visited: flat {} blocks {} (+{} block tests) hierarchy {} (+{} block tests), hits {hits}",
+        cf.cells, cb.cells, cb.blocks, ch.cells, ch.blocks
+    );
+    assert!(hits > 1000);
+    assert_eq!(cf.blocks, 0);
+    assert!(cb.cells + cb.blocks < cf.cells / 3);
+    assert!(ch.cells + ch.blocks < cf.cells / 4);
+}
+
+/// Far origins make the f32 `v` boundaries of neighbouring grid lines
+/// round to the same `t`: the walk must use the mirrored (u-major) jump or
+/// fall back to the flat walk, and still agree.
+#[test]
+fn far_origin_with_coinciding_boundaries_still_matches() {
+    let mut rng = Rng::new(8);
+    let n = 257;
+    let data = terrain(&mut rng, n, n);
+    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Indexed).unwrap();
+    let mut modes = Modes::new(&field);
+    let c = (n - 1) as f32;
+    let mut hits = 0;
+    for k in 0..4000 {
+        // Origin 3·10^7 cells away along z (f32 ulp there is 2 cells),
+        // aimed at points of the field; or far along both axes.
+        let far = if k % 2 == 0 { 3.0e7 } else { 2.0e5 };
+        let o = if k % 3 == 0 {
+            [far / c, 0.9, far / c]
+        } else {
+            [rng.range(0.0, 1.0) as f32, 0.9, far / c]
+        };
+        let target = [rng.range(0.0, 1.0) as f32, 0.3, rng.range(0.0, 1.0) as f32];
+        let d = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
+        let r = modes.intersect_in::<f32>(&field, o, d, 0.0, f32::MAX, &mut Counters::default());
+        hits += r.is_some() as u32;
+    }
+    assert!(hits > 100, "{hits}");
+}
+
+#[test]
+fn sixteen_bit_fields_match_in_every_mode() {
+    let mut rng = Rng::new(21);
+    for _ in 0..20 {
+        let w = rng.int(2, 90);
+        let d = rng.int(2, 90);
+        let data: Vec<u16> = terrain(&mut rng, w, d)
+            .iter()
+            .map(|&v| v as u16 * 257 + (rng.next_u64() % 200) as u16)
+            .collect();
+        let field = HeightField::new(Samples::U16(&data), w, d, HeightConvention::Gray16)
+            .unwrap()
+            .with_water_level(if rng.chance(0.3) { 0.4 } else { 0.0 })
+            .unwrap();
+        let mut modes = Modes::new(&field);
+        let (cu, cv) = ((w - 1) as f64, (d - 1) as f64);
+        for _ in 0..500 {
+            let (o, dir, t_min, t_max) = adversarial_ray(&mut rng, cu, cv);
+            let o = [o[0] / cu, o[1], o[2] / cv];
+            let dir = [dir[0] / cu, dir[1], dir[2] / cv];
+            modes.intersect_in::<f64>(&field, o, dir, t_min, t_max, &mut Counters::default());
+        }
+    }
+}
+
+#[test]
+fn skip_grid_sizes_and_layouts() {
+    // 8-bit 4097² field, 8-cell blocks: 512² + 64² + 8² blocks × 2 bytes.
+    let layout = SkipLayout::pyramid(4097, 4097, 3);
+    assert_eq!(layout.levels, 3);
+    assert_eq!(
+        SkipGrid::bytes_needed(4097, 4097, 1, layout).unwrap(),
+        16 + 2 * (512 * 512 + 64 * 64 + 8 * 8)
+    );
+    assert_eq!(
+        SkipGrid::bytes_needed(4097, 4097, 2, layout).unwrap(),
+        16 + 4 * (512 * 512 + 64 * 64 + 8 * 8)
+    );
+    // Partial blocks round up: 10 cells in 4-cell blocks = 3 blocks.
+    assert_eq!(
+        SkipGrid::bytes_needed(11, 5, 1, SkipLayout::blocks(2)).unwrap(),
+        16 + 2 * 3
+    );
+    assert!(matches!(
+        SkipGrid::bytes_needed(
+            10,
+            10,
+            1,
+            SkipLayout {
+                block_log2: 0,
+                levels: 1
+            }
+        ),
+        Err(SkipError::Layout { .. })
+    ));
+    assert!(matches!(
+        SkipGrid::bytes_needed(
+            10,
+            10,
+            1,
+            SkipLayout {
+                block_log2: 3,
+                levels: 9
+            }
+        ),
+        Err(SkipError::Layout { .. })
+    ));
+    // A 2×2 field: one cell, one block.
+    assert_eq!(SkipLayout::pyramid(2, 2, 3).levels, 1);
+}
+
+#[test]
+fn precomputed_grids_are_checked() {
+    let data: Vec<u8> = (0..33 * 17).map(|i| (i * 7 % 251) as u8).collect();
+    let field = HeightField::new(Samples::U8(&data), 33, 17, HeightConvention::Indexed).unwrap();
+    let layout = SkipLayout::pyramid(33, 17, 2);
+    let n = SkipGrid::bytes_needed_for(&field, layout).unwrap();
+    // Wrong buffer size.
+    let mut small = vec![0u8; n - 1];
+    assert_eq!(
+        SkipGrid::build(&field, layout, &mut small).unwrap_err(),
+        SkipError::Size {
+            expected: n,
+            actual: n - 1
+        }
+    );
+    let mut buf = vec![0u8; n];
+    let grid = SkipGrid::build(&field, layout, &mut buf).unwrap();
+    grid.verify(&field).unwrap();
+    assert_eq!(grid.layout(), layout);
+    let stored = grid.as_bytes().to_vec();
+    // Round trip.
+    let again = SkipGrid::from_precomputed(&stored, &field).unwrap();
+    again.verify(&field).unwrap();
+    // Another field's size is refused, by from_precomputed and with_skip.
+    let other_data = vec![0u8; 32 * 17];
+    let other =
+        HeightField::new(Samples::U8(&other_data), 32, 17, HeightConvention::Indexed).unwrap();
+    assert!(matches!(
+        SkipGrid::from_precomputed(&stored, &other),
+        Err(SkipError::FieldMismatch { .. })
+    ));
+    assert!(matches!(
+        other.clone().with_skip(again),
+        Err(SkipError::FieldMismatch { .. })
+    ));
+    // Bad magic, truncated, extended.
+    let mut bad = stored.clone();
+    bad[0] = b'X';
+    assert_eq!(
+        SkipGrid::from_precomputed(&bad, &field).unwrap_err(),
+        SkipError::Header
+    );
+    assert!(matches!(
+        SkipGrid::from_precomputed(&stored[..n - 2], &field),
+        Err(SkipError::Size { .. })
+    ));
+    assert!(matches!(
+        SkipGrid::from_precomputed(&stored[..4], &field),
+        Err(SkipError::Size { .. })
+    ));
+    // Contents of another field with the same size: accepted by the header
+    // check, caught by verify.
+    let flat_data = vec![9u8; 33 * 17];
+    let flat =
+        HeightField::new(Samples::U8(&flat_data), 33, 17, HeightConvention::Indexed).unwrap();
+    let wrong = SkipGrid::from_precomputed(&stored, &flat).unwrap();
+    assert!(matches!(
+        wrong.verify(&flat),
+        Err(SkipError::Content { level: 1, .. })
+    ));
+    // A tampered byte in level 2 is found.
+    let mut tampered = stored.clone();
+    let last = tampered.len() - 1;
+    tampered[last] = tampered[last].wrapping_sub(1);
+    let t = SkipGrid::from_precomputed(&tampered, &field).unwrap();
+    assert!(matches!(
+        t.verify(&field),
+        Err(SkipError::Content { level: 2, .. })
+    ));
+    // Each block bounds its vertices: spot-check block (1, 0) of level 1
+    // (cells 4..8 × 0..4 → vertices 4..=8 × 0..=4).
+    let (lo, hi) = grid.raw_bounds(1, 1, 0);
+    let mut want = (u32::MAX, 0);
+    for z in 0..=4 {
+        for x in 4..=8 {
+            let v = field.raw_sample(x, z);
+            want = (want.0.min(v), want.1.max(v));
+        }
+    }
+    assert_eq!((lo, hi), want);
+}
