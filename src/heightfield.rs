@@ -363,7 +363,7 @@ impl<'a> HeightField<'a> {
 
     /// Heights of cell `(x, z)`'s corners in units of 1/65536:
     /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn cell_units(&self, x: u32, z: u32) -> [u32; 4] {
         let w = self.width as usize;
         // Grid row z is image row depth - 1 - z; grid row z + 1 the one above.

@@ -112,7 +112,15 @@ impl Real for f32 {
     }
     #[inline]
     fn floor_i32(self) -> i32 {
-        libm::floorf(self) as i32
+        // `floorf(self) as i32` without the libm call: truncate, then step
+        // down if that rounded up. Same result for every input (the cast
+        // saturates, NaN gives 0).
+        let i = self as i32;
+        if (i as f32) > self {
+            i.saturating_sub(1)
+        } else {
+            i
+        }
     }
     #[inline]
     fn is_finite(self) -> bool {
@@ -162,7 +170,13 @@ impl Real for f64 {
     }
     #[inline]
     fn floor_i32(self) -> i32 {
-        libm::floor(self) as i32
+        // `floor(self) as i32` without the libm call (see the f32 version).
+        let i = self as i32;
+        if (i as f64) > self {
+            i.saturating_sub(1)
+        } else {
+            i
+        }
     }
     #[inline]
     fn is_finite(self) -> bool {
