@@ -5,18 +5,27 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod camera;
 mod cell;
 pub mod heightfield;
+pub mod pixel;
 pub mod ray;
 pub mod real;
+pub mod render;
 pub mod scene;
+pub mod shading;
+pub mod shapes;
 pub mod transform;
 pub mod traversal;
 
+pub use camera::{Camera, CameraError};
 pub use glam;
 pub use heapless;
 pub use heightfield::{HeightConvention, HeightField, HeightFieldError, Samples};
+pub use pixel::{LinearRgb, Pixel, Rgb888};
 pub use ray::{FieldHit, Ray, Triangle};
 pub use real::Real;
+pub use render::{render, render_depth, RenderError, RenderSettings, Stats};
+pub use shading::Tracer;
 pub use transform::Transform;
 pub use traversal::Counters;
