@@ -451,7 +451,6 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     }
 
     /// Diffuse, phong and specular from one light.
-    #[allow(clippy::too_many_arguments)]
     #[inline]
     fn light_term(
         &self,

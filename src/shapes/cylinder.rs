@@ -20,9 +20,12 @@ impl Cylinder {
     pub fn new(base: Vec3, cap: Vec3, radius: f32, open: bool) -> Option<Cylinder> {
         let v = cap - base;
         let length = v.length();
-        if !(base.is_finite() && length > 0.0 && length.is_finite())
-            || !(radius > 0.0 && radius.is_finite())
-        {
+        let ok = base.is_finite()
+            && length > 0.0
+            && length.is_finite()
+            && radius > 0.0
+            && radius.is_finite();
+        if !ok {
             return None;
         }
         Some(Cylinder {
