@@ -201,9 +201,18 @@ pub(crate) fn nearest<S: Real>(
     let water = S::from_f32(field.water_level());
     let y_lo = S::from_height_units(min_units).max(water);
     let y_hi = S::from_height_units(max_units);
+    // The y slab is padded by (1 + |o_y| + y_hi) height units (2^-16 each)
+    // on both sides. There is no surface outside [y_lo, y_hi], so the
+    // padding changes no answer, but it makes the walk's first and last
+    // samples land strictly above or below every surface point despite the
+    // rounding of `o_y + t·d_y`. Without it a flat field (y_lo = y_hi) gives
+    // a zero-thickness slab whose two samples both round to the same side
+    // of the surface, and rays slip through (regression test
+    // `flat_field_rays_hit_everywhere` in tests/render_heightfield.rs).
+    let pad = (S::ONE + o[1].abs() + y_hi) * S::from_height_units(1);
     let mut span = (t_min, t_max);
     if !(slab(o[0], &au, S::ZERO, S::from_i32(cells_u), &mut span)
-        && slab(o[1], &ay, y_lo, y_hi, &mut span)
+        && slab(o[1], &ay, y_lo - pad, y_hi + pad, &mut span)
         && slab(o[2], &av, S::ZERO, S::from_i32(cells_v), &mut span))
     {
         return None;

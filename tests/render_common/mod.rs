@@ -6,7 +6,7 @@ use std::ops::ControlFlow;
 
 use hfray::glam::Vec3;
 use hfray::scene::{CameraDesc, Finish, Light, Object, Pigment, Projection, Scene, Shape};
-use hfray::{render, HeightField, LinearRgb, RenderSettings, Stats, Transform};
+use hfray::{render, HeightField, LinearRgb, Pixel, RenderSettings, Stats, Transform};
 
 pub type TestScene = Scene<'static, 8, 4>;
 
@@ -32,7 +32,29 @@ pub fn render_linear(
         },
     )
     .expect("render");
+    dump(&out, width, height);
     (out, stats)
+}
+
+/// With `HFRAY_DUMP_DIR` set, writes each linear render there as a PNG
+/// named after the test thread (for looking at test scenes).
+pub fn dump(pixels: &[Vec3], width: u32, height: u32) {
+    let Ok(dir) = std::env::var("HFRAY_DUMP_DIR") else {
+        return;
+    };
+    let name = std::thread::current()
+        .name()
+        .unwrap_or("render")
+        .replace("::", "_");
+    // Small images are blown up (nearest neighbour) to be visible.
+    let k = (256 / width).max(1);
+    let mut img = image::RgbImage::new(width * k, height * k);
+    for (x, y, px) in img.enumerate_pixels_mut() {
+        let c = pixels[((y / k) * width + x / k) as usize];
+        *px = image::Rgb(hfray::Rgb888::from_linear(c, 0, 0).0);
+    }
+    let path = std::path::Path::new(&dir).join(format!("{name}-{width}x{height}.png"));
+    img.save(&path).expect("write dump");
 }
 
 /// Asserts two colours agree within `tol` per channel.
