@@ -168,6 +168,9 @@ struct Surface {
 }
 
 impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
+    /// Bytes a tracer occupies (on the caller's stack during a render).
+    pub const SIZE: usize = core::mem::size_of::<Self>();
+
     /// Prepares `scene` with the caller's height fields (`fields[i]` for
     /// `field_index` `i`, each already carrying its object's transform,
     /// water level and palette).

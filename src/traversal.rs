@@ -5,7 +5,7 @@
 //! crosses with a DDA that visits *every* crossed cell, in order, carrying
 //! the ray's height at cell entry and exit; skip a cell when the ray is
 //! above its highest corner (or below its lowest, or below the water
-//! level); otherwise run the cell test ([`crate::cell`]); the first hit of
+//! level); otherwise run the cell test (`crate::cell`); the first hit of
 //! the walk is the nearest.
 //!
 //! Robustness, where published DDAs break:

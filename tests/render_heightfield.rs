@@ -225,7 +225,7 @@ fn smooth_shading_keeps_geometry_and_is_exact_on_a_plane() {
     let n = 16u32;
     // A ridge: smooth changes the shading, not the depth.
     let ridge: Vec<u8> = (0..n * n)
-        .map(|i| (255 - 30 * ((i % n) as i32 - 8).unsigned_abs()).max(0) as u8)
+        .map(|i| (255 - 30 * ((i % n) as i32 - 8).unsigned_abs()) as u8)
         .collect();
     // A linear ramp: every triangle is coplanar, so smooth = flat.
     let ramp: Vec<u8> = (0..n * n).map(|i| ((i % n) * 16) as u8).collect();

@@ -17,7 +17,7 @@
 //! `fields[field_index]`, which carries its own transform, water level and
 //! palette. **The field's transform wins**; the caller builds each field
 //! with `.with_transform(object.transform)` (the renderer checks that they
-//! agree, see [`crate::render`]).
+//! agree, see [`render`](mod@crate::render)).
 
 pub mod aabb;
 pub mod cone;
