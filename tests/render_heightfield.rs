@@ -227,7 +227,8 @@ fn smooth_shading_keeps_geometry_and_is_exact_on_a_plane() {
     let ridge: Vec<u8> = (0..n * n)
         .map(|i| (255 - 30 * ((i % n) as i32 - 8).unsigned_abs()) as u8)
         .collect();
-    // A linear ramp: every triangle is coplanar, so smooth = flat.
+    // A linear ramp: every triangle is coplanar, so smooth = flat (up to
+    // the i16 quantisation of vertex normals).
     let ramp: Vec<u8> = (0..n * n).map(|i| ((i % n) * 16) as u8).collect();
     // Flattened (y · 0.3) so the camera sees the whole surface from above;
     // the field's sides are not surfaces (POV-Ray's height fields are not
@@ -260,7 +261,9 @@ fn smooth_shading_keeps_geometry_and_is_exact_on_a_plane() {
         for (x, y) in a.iter().zip(&b) {
             assert_eq!(x.is_some(), y.is_some(), "geometry changed");
             if let (Some(x), Some(y)) = (x, y) {
-                if (*x - *y).abs().max_element() > 1e-5 {
+                // POV-Ray stores vertex normals as i16 (1/32767 steps): on
+                // a plane smooth differs from flat only by that rounding.
+                if (*x - *y).abs().max_element() > 2e-4 {
                     differ += 1;
                 }
             }
