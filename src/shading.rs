@@ -38,6 +38,14 @@
 //!   weight falls below POV-Ray's default `adc_bailout` of 1/255 are not
 //!   traced either.
 //!
+//! **Measured against POV-Ray 3.7** (`tests/render_vs_povray.rs`, a scene
+//! with every term above, a smooth height field and transparent spheres,
+//! 320×240): 99.7% of the pixels identical, 99.98% within one 8-bit
+//! level. The dozen others are silhouette edges seen in reflections or
+//! through transparent objects, and points at the smooth-shading
+//! terminator, where POV-Ray ignores shadow-ray hits closer than 10⁻³ and
+//! hfray, which offsets origins instead, sees the surface shadow itself.
+//!
 //! **No recursion.** The colour is linear in everything traced, so the
 //! tracer accumulates `weight · local colour` and keeps the rays still to
 //! be traced on a fixed-capacity stack ([`PENDING_CAPACITY`] = 16 entries of
