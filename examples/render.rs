@@ -79,8 +79,12 @@ fn parse_rows(value: Option<String>) -> Result<Range<u32>, String> {
     let (a, b) = value
         .split_once("..")
         .ok_or_else(|| format!("--rows: '{value}' is not of the form A..B"))?;
-    let a: u32 = a.parse().map_err(|_| format!("--rows: '{a}' is not a row"))?;
-    let b: u32 = b.parse().map_err(|_| format!("--rows: '{b}' is not a row"))?;
+    let a: u32 = a
+        .parse()
+        .map_err(|_| format!("--rows: '{a}' is not a row"))?;
+    let b: u32 = b
+        .parse()
+        .map_err(|_| format!("--rows: '{b}' is not a row"))?;
     if a >= b {
         return Err(format!("--rows: {a}..{b} is empty"));
     }
@@ -128,7 +132,9 @@ fn parse_args() -> Result<Options, String> {
             "--strict" => o.strict = true,
             "--quiet" => o.quiet = true,
             "-h" | "--help" => return Err(USAGE.into()),
-            flag if flag.starts_with('-') => return Err(format!("unknown option '{flag}'\n{USAGE}")),
+            flag if flag.starts_with('-') => {
+                return Err(format!("unknown option '{flag}'\n{USAGE}"))
+            }
             path => {
                 if scene.replace(PathBuf::from(path)).is_some() {
                     return Err(format!("more than one scene file given\n{USAGE}"));
@@ -189,7 +195,9 @@ impl RowSink for ImageOut<TgaWriter<std::io::BufWriter<std::fs::File>>> {
     fn row(&mut self, row: &[Rgb888]) -> Result<(), String> {
         self.bytes.clear();
         self.bytes.extend(row.iter().map(|p| p.0));
-        self.writer.write_row(&self.bytes).map_err(|e| io_err(&self.path, e))
+        self.writer
+            .write_row(&self.bytes)
+            .map_err(|e| io_err(&self.path, e))
     }
     fn depth_row(&mut self, _: &[f32]) -> Result<(), String> {
         unreachable_sink()
@@ -205,7 +213,9 @@ impl RowSink for ImageOut<PngWriter<std::io::BufWriter<std::fs::File>>> {
     fn row(&mut self, row: &[Rgb888]) -> Result<(), String> {
         self.bytes.clear();
         self.bytes.extend(row.iter().map(|p| p.0));
-        self.writer.write_row(&self.bytes).map_err(|e| io_err(&self.path, e))
+        self.writer
+            .write_row(&self.bytes)
+            .map_err(|e| io_err(&self.path, e))
     }
     fn depth_row(&mut self, _: &[f32]) -> Result<(), String> {
         unreachable_sink()
@@ -221,7 +231,9 @@ impl RowSink for ImageOut<PfmWriter<std::io::BufWriter<std::fs::File>>> {
         unreachable_sink()
     }
     fn depth_row(&mut self, row: &[f32]) -> Result<(), String> {
-        self.writer.write_row(row).map_err(|e| io_err(&self.path, e))
+        self.writer
+            .write_row(row)
+            .map_err(|e| io_err(&self.path, e))
     }
     fn finish(self: Box<Self>) -> Result<(), String> {
         let path = self.path;
@@ -234,7 +246,12 @@ fn unreachable_sink() -> Result<(), String> {
     Err("internal error: row of the wrong kind for this output".into())
 }
 
-fn open_sink(path: &Path, temp: &Path, width: u32, height: u32) -> Result<Box<dyn RowSink>, String> {
+fn open_sink(
+    path: &Path,
+    temp: &Path,
+    width: u32,
+    height: u32,
+) -> Result<Box<dyn RowSink>, String> {
     let err = |e| io_err(path, e);
     let file = || -> Result<_, String> {
         Ok(std::io::BufWriter::new(
@@ -311,7 +328,10 @@ fn render_rows(
     progress: &mut Progress,
 ) -> Result<Stats, String> {
     let base = RenderSettings::new(o.width, o.height).with_aa(o.aa);
-    let threads = o.threads.min(rows.len().div_ceil(BAND_ROWS as usize) as u32).max(1);
+    let threads = o
+        .threads
+        .min(rows.len().div_ceil(BAND_ROWS as usize) as u32)
+        .max(1);
     let bands: Vec<Range<u32>> = rows
         .clone()
         .step_by(BAND_ROWS as usize)
@@ -325,8 +345,12 @@ fn render_rows(
         for k in 0..threads as usize {
             let (tx, rx) = mpsc::sync_channel::<Result<Row, String>>(2 * BAND_ROWS as usize);
             receivers.push(rx);
-            let my_bands: Vec<Range<u32>> =
-                bands.iter().skip(k).step_by(threads as usize).cloned().collect();
+            let my_bands: Vec<Range<u32>> = bands
+                .iter()
+                .skip(k)
+                .step_by(threads as usize)
+                .cloned()
+                .collect();
             let base = base.clone();
             let depth = o.depth_aov;
             handles.push(s.spawn(move || -> Stats {
@@ -393,8 +417,10 @@ fn render_rows(
         for h in handles {
             match h.join() {
                 Ok(s) => stats.merge(&s),
-                Err(_) => failure.get_or_insert_with(|| "a render thread panicked".into()),
-            };
+                Err(_) => {
+                    failure.get_or_insert_with(|| "a render thread panicked".into());
+                }
+            }
         }
         match failure {
             Some(e) => Err(e),
@@ -416,7 +442,10 @@ fn frame_path(output: &Path, frame: u32, frames: u32) -> PathBuf {
         return output.to_path_buf();
     }
     let digits = frames.to_string().len().max(4);
-    let stem = output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
+    let stem = output
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("frame");
     let ext = extension(output);
     output.with_file_name(format!("{stem}_{frame:0digits$}.{ext}"))
 }
@@ -459,8 +488,15 @@ fn run(o: &Options) -> Result<(), String> {
         let mut sink = open_sink(&output, &temp, o.width, rows.len() as u32)?;
         let mut progress = Progress::new(o.quiet, rows.len() as u32);
         let trace_start = Instant::now();
-        let result = render_rows(&scene, &fields, o, rows.clone(), sink.as_mut(), &mut progress)
-            .and_then(|stats| sink.finish().map(|()| stats));
+        let result = render_rows(
+            &scene,
+            &fields,
+            o,
+            rows.clone(),
+            sink.as_mut(),
+            &mut progress,
+        )
+        .and_then(|stats| sink.finish().map(|()| stats));
         let trace_seconds = trace_start.elapsed().as_secs_f64();
         let stats = match result {
             Ok(stats) => stats,
