@@ -47,7 +47,11 @@ fn rays() -> Vec<(Vec3, Vec3)> {
 
 /// Primary rays per second over `field` in numeric type `S`; also returns
 /// hits and cells + blocks visited per ray.
-fn primary<S: Real>(field: &HeightField<'_>, rays: &[(Vec3, Vec3)], runs: usize) -> (f64, u64, f64) {
+fn primary<S: Real>(
+    field: &HeightField<'_>,
+    rays: &[(Vec3, Vec3)],
+    runs: usize,
+) -> (f64, u64, f64) {
     let mut hits = 0;
     let mut c = Counters::default();
     let secs = median_secs(runs, || {
@@ -76,9 +80,7 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(5);
-    println!(
-        "hfray bench: single thread, median of {runs} runs, {W}x{H} primary rays"
-    );
+    println!("hfray bench: single thread, median of {runs} runs, {W}x{H} primary rays");
     let rays = rays();
     let transform = Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap();
 

@@ -17,7 +17,7 @@
 use glam::{DAffine3, DVec3, Vec3};
 
 use crate::ray::{FieldHit, Ray, Triangle};
-use crate::real::Real;
+use crate::real::{Numeric, Real};
 use crate::skip::{SkipError, SkipGrid};
 use crate::transform::Transform;
 use crate::traversal::{self, Counters, GridHit, GridRay, Traversal};
@@ -153,6 +153,7 @@ pub struct HeightField<'a> {
     normal_matrix: glam::Mat3,
     skip: Option<SkipGrid<'a>>,
     traversal: Traversal,
+    numeric: Numeric,
 }
 
 impl<'a> HeightField<'a> {
@@ -206,6 +207,7 @@ impl<'a> HeightField<'a> {
             normal_matrix: glam::Mat3::IDENTITY,
             skip: None,
             traversal: Traversal::default(),
+            numeric: Numeric::default(),
         };
         field.update_grid_transform();
         Ok(field)
@@ -264,6 +266,20 @@ impl<'a> HeightField<'a> {
     pub fn with_traversal(mut self, mode: Traversal) -> Self {
         self.traversal = mode;
         self
+    }
+
+    /// The same field with its queries ([`intersect`](Self::intersect),
+    /// [`occludes`](Self::occludes)) walking in the numeric type `numeric`
+    /// (default `f32`). The camera and shading stay `f32`.
+    pub fn with_numeric(mut self, numeric: Numeric) -> Self {
+        self.numeric = numeric;
+        self
+    }
+
+    /// The numeric path of [`intersect`](Self::intersect) and
+    /// [`occludes`](Self::occludes).
+    pub fn numeric(&self) -> Numeric {
+        self.numeric
     }
 
     /// The traversal mode.
@@ -439,10 +455,118 @@ impl<'a> HeightField<'a> {
         t_max: f32,
         counters: &mut Counters,
     ) -> Option<FieldHit> {
-        let o = ray.origin.to_array();
-        let d = ray.direction.to_array();
-        let hit = self.intersect_in::<f32>(o, d, t_min, t_max, counters)?;
-        Some(self.finish_hit(ray, &hit))
+        match self.numeric {
+            Numeric::F32 => {
+                let o = ray.origin.to_array();
+                let d = ray.direction.to_array();
+                let hit = self.intersect_in::<f32>(o, d, t_min, t_max, counters)?;
+                Some(self.finish_hit(ray, &hit))
+            }
+            Numeric::F64 => self.intersect_as::<f64>(ray, t_min, t_max, false, counters),
+            #[cfg(feature = "fixed")]
+            Numeric::Q16 => {
+                self.intersect_as::<crate::real::Q16>(ray, t_min, t_max, false, counters)
+            }
+            #[cfg(feature = "fixed")]
+            Numeric::Q32 => {
+                self.intersect_as::<crate::real::Q32>(ray, t_min, t_max, false, counters)
+            }
+        }
+    }
+
+    /// The nearest hit of a world ray walked in the numeric type `S`
+    /// (whatever the field's [`Numeric`] setting), as a world hit.
+    ///
+    /// For fixed-point types ([`Real::NORMALIZED_T`]) the grid ray is
+    /// prepared in `f64`: its direction scaled by a power of two `σ` so
+    /// that its largest grid component (height scaled by
+    /// [`Real::Y_SCALE`]) is in `[1, 2)`, and its origin moved to where it enters the field's box, so
+    /// that origin, `t` and boundary parameters stay within a few times the
+    /// grid size whatever the world's scale or the camera's distance. The
+    /// hit's `t` is mapped back in `f64`.
+    pub fn intersect_as<S: Real>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        any: bool,
+        counters: &mut Counters,
+    ) -> Option<FieldHit> {
+        if !S::NORMALIZED_T {
+            let hit = traversal::nearest(
+                self,
+                &self.grid_ray(
+                    ray.origin.to_array().map(S::from_f32),
+                    ray.direction.to_array().map(S::from_f32),
+                ),
+                S::from_f32(t_min),
+                S::from_f32(t_max),
+                any,
+                counters,
+            )?;
+            return Some(self.finish_hit(ray, &hit));
+        }
+        if !(t_min <= t_max) || !ray.origin.is_finite() || !ray.direction.is_finite() {
+            return None;
+        }
+        let m = &self.world_to_grid64;
+        let o = m.transform_point3(ray.origin.as_dvec3());
+        let d = m.transform_vector3(ray.direction.as_dvec3());
+        let y = S::Y_SCALE;
+        let (o, d) = (o * DVec3::new(1.0, y, 1.0), d * DVec3::new(1.0, y, 1.0));
+        let largest = d.abs().max_element();
+        if !(largest > 0.0) || !largest.is_finite() {
+            return None;
+        }
+        // σ = 2^-floor(log2(largest)): d·σ has its largest component in
+        // [1, 2), so every 1/d the walk uses is at least 1/2 and carries
+        // its full relative precision.
+        let sigma = libm::exp2(-libm::floor(libm::log2(largest)));
+        let d = d * sigma;
+        let (mut t0, mut t1) = (t_min as f64 / sigma, t_max as f64 / sigma);
+        // Clip to the field's xz box in f64; the walk clips again exactly.
+        let cells = [(self.width - 1) as f64, (self.depth - 1) as f64];
+        for (k, axis) in [0usize, 2].into_iter().enumerate() {
+            let (oa, da) = (o[axis], d[axis]);
+            if da == 0.0 {
+                if oa < 0.0 || oa > cells[k] {
+                    return None;
+                }
+                continue;
+            }
+            let (a, b) = ((0.0 - oa) / da, (cells[k] - oa) / da);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        if !(t0 <= t1) {
+            return None;
+        }
+        // Start one cell's worth before the box (never before t_min), so
+        // the walk's own clipping decides the entry.
+        let start = (t0 - 1.0).max(t_min as f64 / sigma);
+        let origin = o + d * start;
+        let g = GridRay {
+            origin: origin.to_array().map(S::from_f64),
+            direction: d.to_array().map(S::from_f64),
+        };
+        let t_lo = t_min as f64 / sigma - start;
+        let t_hi = if t_max.is_finite() {
+            t_max as f64 / sigma - start
+        } else {
+            f64::INFINITY
+        };
+        let hit = traversal::nearest(
+            self,
+            &g,
+            S::from_f64(t_lo),
+            S::from_f64(t_hi),
+            any,
+            counters,
+        )?;
+        let mut fh = self.finish_hit(ray, &hit);
+        fh.t = ((hit.t.to_f64() + start) * sigma) as f32;
+        fh.point = ray.at(fh.t);
+        Some(fh)
     }
 
     /// The nearest hit computed in the numeric type `S` (`f32`, `f64`, …),
@@ -463,8 +587,23 @@ impl<'a> HeightField<'a> {
     /// `true` if anything of the field lies on the ray within
     /// `[t_min, t_max]` (shadow rays). Stops at the first hit found.
     pub fn occludes(&self, ray: &Ray, t_min: f32, t_max: f32, counters: &mut Counters) -> bool {
-        let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
-        traversal::nearest(self, &g, t_min, t_max, true, counters).is_some()
+        match self.numeric {
+            Numeric::F32 => {
+                let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
+                traversal::nearest(self, &g, t_min, t_max, true, counters).is_some()
+            }
+            Numeric::F64 => self
+                .intersect_as::<f64>(ray, t_min, t_max, true, counters)
+                .is_some(),
+            #[cfg(feature = "fixed")]
+            Numeric::Q16 => self
+                .intersect_as::<crate::real::Q16>(ray, t_min, t_max, true, counters)
+                .is_some(),
+            #[cfg(feature = "fixed")]
+            Numeric::Q32 => self
+                .intersect_as::<crate::real::Q32>(ray, t_min, t_max, true, counters)
+                .is_some(),
+        }
     }
 
     /// Completes a grid hit into a world-space [`FieldHit`].

@@ -28,7 +28,7 @@ pub use heapless;
 pub use heightfield::{HeightConvention, HeightField, HeightFieldError, Samples};
 pub use pixel::{LinearRgb, Pixel, Rgb888};
 pub use ray::{FieldHit, Ray, Triangle};
-pub use real::Real;
+pub use real::{Numeric, Real};
 pub use render::{render, render_depth, RenderError, RenderSettings, Stats};
 pub use shading::Tracer;
 pub use skip::{SkipError, SkipGrid, SkipLayout};

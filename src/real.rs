@@ -4,6 +4,27 @@
 //! [`Real`], and instantiated for `f32` (the default, fast on FPUs),
 //! `f64` (the reference path) and a fixed-point type for FPU-less chips.
 //! Everything outside the traversal (camera, shading) stays `f32`.
+//!
+//! [`Numeric`] names the paths so a height field can be told which one its
+//! `intersect`/`occludes` use ([`crate::HeightField::with_numeric`]).
+
+/// The numeric path a height field's queries walk in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Numeric {
+    /// `f32` (fast with an FPU; the default).
+    #[default]
+    F32,
+    /// `f64` (the reference).
+    F64,
+    /// [`Q16`]: Q15.16 fixed point in an `i32` (FPU-less chips: one
+    /// 32×32→64 multiply per product).
+    #[cfg(feature = "fixed")]
+    Q16,
+    /// [`Q32`]: Q31.32 fixed point in an `i64` (more range and precision,
+    /// a 64×64→128 multiply per product).
+    #[cfg(feature = "fixed")]
+    Q32,
+}
 
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -55,6 +76,19 @@ pub trait Real:
     /// are. The skip walk needs it on one axis to jump over blocks exactly;
     /// without it the walk goes cell by cell.
     fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool;
+
+    /// `true` for types with a small fixed range (fixed point): the height
+    /// field then rescales the ray so that `t` counts cells (a power of two
+    /// times the caller's `t`, exact) and starts it at the field's box, so
+    /// every quantity of the walk stays within a few times the grid size.
+    /// Floats walk in the caller's `t`.
+    const NORMALIZED_T: bool = false;
+
+    /// The walk's height coordinate is object `y` times this (a power of
+    /// two, so exact), and [`from_height_units`](Self::from_height_units)
+    /// scales alike. 1 for floats; fixed point uses more of its fraction
+    /// bits for heights, which span only `[0, 1)` while `u`, `v` span cells.
+    const Y_SCALE: f64 = 1.0;
 
     /// The smaller of two values.
     #[inline]
@@ -211,4 +245,152 @@ fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) ->
     let x = (lo as f64 - o).abs().max((hi as f64 - o).abs());
     let a = inv.abs();
     x < x_limit && a >= 1.0 / range && x * a <= range
+}
+
+#[cfg(feature = "fixed")]
+pub use fixed_point::{Q16, Q32};
+
+#[cfg(feature = "fixed")]
+mod fixed_point {
+    use super::Real;
+    use core::ops::{Add, Div, Mul, Neg, Sub};
+    use fixed::types::{I16F16, I32F32};
+
+    macro_rules! fixed_real {
+        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr) => {
+            $(#[$doc])*
+            #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
+            pub struct $name(pub $inner);
+
+            impl Add for $name {
+                type Output = Self;
+                #[inline]
+                fn add(self, o: Self) -> Self {
+                    $name(self.0.saturating_add(o.0))
+                }
+            }
+            impl Sub for $name {
+                type Output = Self;
+                #[inline]
+                fn sub(self, o: Self) -> Self {
+                    $name(self.0.saturating_sub(o.0))
+                }
+            }
+            impl Mul for $name {
+                type Output = Self;
+                /// Rounds towards −∞ (monotone), saturates.
+                #[inline]
+                fn mul(self, o: Self) -> Self {
+                    $name(self.0.saturating_mul(o.0))
+                }
+            }
+            impl Div for $name {
+                type Output = Self;
+                /// Saturates; `x / 0` is the extreme of `x`'s sign (0 for
+                /// `0 / 0`) instead of a panic.
+                #[inline]
+                fn div(self, o: Self) -> Self {
+                    if o.0 == <$inner>::ZERO {
+                        return if self.0 > <$inner>::ZERO {
+                            $name(<$inner>::MAX)
+                        } else if self.0 < <$inner>::ZERO {
+                            $name(<$inner>::MIN)
+                        } else {
+                            $name(<$inner>::ZERO)
+                        };
+                    }
+                    $name(self.0.saturating_div(o.0))
+                }
+            }
+            impl Neg for $name {
+                type Output = Self;
+                #[inline]
+                fn neg(self) -> Self {
+                    $name(self.0.saturating_neg())
+                }
+            }
+
+            impl Real for $name {
+                const ZERO: Self = $name(<$inner>::ZERO);
+                const ONE: Self = $name(<$inner>::ONE);
+                const MAX: Self = $name(<$inner>::MAX);
+                const EPSILON: Self = $name(<$inner>::DELTA);
+                const NORMALIZED_T: bool = true;
+                const Y_SCALE: f64 = (1u64 << $ylog2) as f64;
+                #[inline]
+                fn from_f32(v: f32) -> Self {
+                    Self::from_f64(v as f64)
+                }
+                #[inline]
+                fn from_f64(v: f64) -> Self {
+                    if v.is_nan() {
+                        Self::ZERO
+                    } else {
+                        $name(<$inner>::saturating_from_num(v))
+                    }
+                }
+                #[inline]
+                fn from_i32(v: i32) -> Self {
+                    $name(<$inner>::saturating_from_num(v))
+                }
+                #[inline]
+                fn to_f32(self) -> f32 {
+                    self.0.to_num::<f32>()
+                }
+                #[inline]
+                fn to_f64(self) -> f64 {
+                    self.0.to_num::<f64>()
+                }
+                #[inline]
+                fn floor_i32(self) -> i32 {
+                    let f = self.0.to_bits() >> $frac;
+                    f.clamp(i32::MIN as $bits, i32::MAX as $bits) as i32
+                }
+                #[inline]
+                fn is_finite(self) -> bool {
+                    true
+                }
+                #[inline]
+                fn from_height_units(units: u32) -> Self {
+                    $name(<$inner>::from_bits((units as $bits) << ($frac - 16 + $ylog2)))
+                }
+                /// `k − o` is exact (both are multiples of the ulp and far
+                /// from the range limit), consecutive values differ by
+                /// exactly 1, so their exact products with `inv` differ by
+                /// `|inv| ≥ 1 ulp` and their floors differ: strict as long
+                /// as nothing saturates.
+                #[inline]
+                fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
+                    let o = origin.to_f64();
+                    let x = (lo as f64 - o).abs().max((hi as f64 - o).abs());
+                    let limit = <$inner>::MAX.to_num::<f64>() * 0.5;
+                    inv.0 != <$inner>::ZERO && x < limit && x * inv.to_f64().abs() < limit
+                }
+            }
+        };
+    }
+
+    fixed_real!(
+        /// Q15.16 signed fixed point in an `i32` (`fixed::types::I16F16`),
+        /// saturating, products rounded towards −∞. Range ±32768, step
+        /// 2^-16. The walk runs in cell units (see [`Real::NORMALIZED_T`]),
+        /// so fields up to a few thousand cells per side fit, and heights
+        /// in 1/256 object units (`Y_SCALE` 256: heights in units of
+        /// 1/65536 stay exact, `y` may span ±128 object units).
+        Q16,
+        I16F16,
+        i32,
+        16,
+        8
+    );
+    fixed_real!(
+        /// Q31.32 signed fixed point in an `i64` (`fixed::types::I32F32`),
+        /// saturating, products rounded towards −∞. Range ±2^31, step
+        /// 2^-32; heights in 1/65536 object units (`Y_SCALE` 65536).
+        Q32,
+        I32F32,
+        i64,
+        32,
+        16
+    );
 }

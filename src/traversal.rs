@@ -564,7 +564,7 @@ pub(crate) fn nearest<S: Real>(
     let au = Axis::new(d[0]);
     let ay = Axis::new(d[1]);
     let av = Axis::new(d[2]);
-    let water = S::from_f32(field.water_level());
+    let water = S::from_f64(field.water_level() as f64 * S::Y_SCALE);
     // The height slab is widened so that the ray enters and leaves it
     // strictly above and below the surface: clipped exactly at a flat
     // field's height, a rounded `y(t)` could land on either side and the
