@@ -1,29 +1,46 @@
-//! Single-thread benchmarks of the height-field walk:
+//! Single-thread benchmarks, all measured in this one process, side by side:
 //!
-//! `cargo run --release --example bench [-- RUNS]`
+//! `cargo run --release --example bench [-- RUNS]`   (RUNS default 5)
 //!
-//! (c) scaling: primary rays of the same 320×200 view over the same fractal
-//!     landscape sampled at 256², 1024² and 4096²;
-//! (d) flat walk vs skip grid (one block level, pyramid) × numeric path.
+//! (a) the SPEC.md reference frame (examples/scenes/bench512.pov: 512²
+//!     fractal field, 320×200, one light, shadows, no AA) rendered by hfray
+//!     vs `povray +WT1 -A` "Trace Time" (when `povray` is on the PATH);
+//! (b) primary rays only, hfray vs parry3d's `HeightField` on the same
+//!     rays (hits cross-checked);
+//! (c) scaling: the same view over the same fractal landscape sampled at
+//!     256², 1024², 4096²;
+//! (d) flat walk vs skip grid (blocks, pyramid) × numeric path.
 //!
-//! Every figure is the median of RUNS runs (default 5), all measured in
-//! this one process, side by side.
+//! Times are medians of RUNS runs of the thread's CPU time
+//! (`/proc/thread-self/schedstat`; the machine is shared, so wall time would
+//! also count waiting for a core). Fields are generated deterministically
+//! (examples/bench_common/mod.rs); (a) writes them under target/bench512/.
 
 #[path = "bench_common/mod.rs"]
 mod bench_common;
+#[path = "harness/mod.rs"]
+mod harness;
+
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::process::Command;
 
 use bench_common::{fractal, median_secs, PovCamera};
+use harness::scene_io::{build_fields, load_fields, parse_file_scene};
 use hfray::glam::{DVec3, Vec3};
+use hfray::pixel::Rgb888;
+use hfray::render::{render, RenderSettings};
+use hfray::scene::ParseOptions;
 use hfray::{
-    Counters, HeightConvention, HeightField, Real, Samples, SkipGrid, SkipLayout, Transform,
-    Traversal,
+    Counters, HeightConvention, HeightField, Numeric, Ray, Samples, SkipGrid, SkipLayout,
+    Transform, Traversal,
 };
 
 const W: u32 = 320;
 const H: u32 = 200;
+const SCENE: &str = include_str!("scenes/bench512.pov");
 
-/// The view of the benchmark scene (as in examples/scenes/bench512.pov):
-/// the unit field scaled to <1, 0.3, 1>, seen from over its near edge.
+/// The view of bench512.pov.
 fn camera() -> PovCamera {
     PovCamera::new(
         Vec3::new(0.5, 0.8, -0.6),
@@ -34,38 +51,41 @@ fn camera() -> PovCamera {
     )
 }
 
-fn rays() -> Vec<(Vec3, Vec3)> {
+fn primary_rays() -> Vec<Ray> {
     let cam = camera();
     let mut v = Vec::with_capacity((W * H) as usize);
     for py in 0..H {
         for px in 0..W {
-            v.push((cam.location, cam.ray(px, py)));
+            v.push(Ray::new(cam.location, cam.ray(px, py)));
         }
     }
     v
 }
 
-/// Primary rays per second over `field` in numeric type `S`; also returns
-/// hits and cells + blocks visited per ray.
-fn primary<S: Real>(
-    field: &HeightField<'_>,
-    rays: &[(Vec3, Vec3)],
-    runs: usize,
-) -> (f64, u64, f64) {
+/// Builds a skip grid for `field` into a new buffer.
+fn skip_buffer(field: &HeightField<'_>, layout: SkipLayout) -> Vec<u8> {
+    let mut buf = vec![0u8; SkipGrid::bytes_needed_for(field, layout).unwrap()];
+    SkipGrid::build(field, layout, &mut buf).unwrap();
+    buf
+}
+
+fn with_grid<'a>(field: &HeightField<'a>, buf: &'a [u8], mode: Traversal) -> HeightField<'a> {
+    let grid = SkipGrid::from_precomputed(buf, field).unwrap();
+    field.clone().with_skip(grid).unwrap().with_traversal(mode)
+}
+
+/// Primary rays per second through `intersect_counted` (the field's
+/// numeric path and mode); hits; cells + blocks visited per ray.
+fn primary(field: &HeightField<'_>, rays: &[Ray], runs: usize) -> (f64, u64, f64) {
     let mut hits = 0;
     let mut c = Counters::default();
     let secs = median_secs(runs, || {
         hits = 0;
         c = Counters::default();
-        for (o, d) in rays {
-            let h = field.intersect_in::<S>(
-                o.to_array().map(S::from_f32),
-                d.to_array().map(S::from_f32),
-                S::ZERO,
-                S::MAX,
-                &mut c,
-            );
-            hits += h.is_some() as u64;
+        for r in rays {
+            hits += field
+                .intersect_counted(r, 0.0, f32::INFINITY, &mut c)
+                .is_some() as u64;
         }
     });
     (
@@ -75,54 +95,333 @@ fn primary<S: Real>(
     )
 }
 
-fn main() {
-    let runs: usize = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(5);
-    println!("hfray bench: single thread, median of {runs} runs, {W}x{H} primary rays");
-    let rays = rays();
-    let transform = Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap();
+fn write_pgm(path: &Path, n: u32, data: &[u8]) {
+    let mut bytes = format!("P5\n{n} {n}\n255\n").into_bytes();
+    bytes.extend_from_slice(data);
+    std::fs::write(path, bytes).unwrap();
+}
 
-    println!("\n(c) scaling, same view, same landscape, f32");
+/// POV-Ray's single-thread trace time of bench512.pov: (wall s, CPU s),
+/// medians; `None` without povray.
+fn povray_trace(dir: &Path, runs: usize) -> Option<(f64, f64)> {
+    let mut walls = Vec::new();
+    let mut cpus = Vec::new();
+    for _ in 0..runs {
+        let out = Command::new("povray")
+            .current_dir(dir)
+            .args([
+                "+Ibench512.pov",
+                "+W320",
+                "+H200",
+                "-A",
+                "+WT1",
+                "-D",
+                "+FN",
+                "+Obench512-pov.png",
+                "File_Gamma=1.0",
+            ])
+            .output()
+            .ok()?;
+        let err = String::from_utf8_lossy(&out.stderr);
+        // "Trace Time:       0 hours  0 minutes  0 seconds (0.093 seconds)"
+        // "              using 1 thread(s) with 0.091 CPU-seconds total"
+        let mut lines = err.lines().skip_while(|l| !l.contains("Trace Time:"));
+        let trace = lines.next()?;
+        let wall: f64 = trace
+            .split('(')
+            .nth(1)?
+            .split_whitespace()
+            .next()?
+            .parse()
+            .ok()?;
+        let cpu: f64 = lines
+            .next()
+            .and_then(|l| l.split("with").nth(1))
+            .and_then(|s| s.split_whitespace().next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(wall);
+        walls.push(wall);
+        cpus.push(cpu);
+    }
+    let med = |v: &mut Vec<f64>| {
+        v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        v[v.len() / 2]
+    };
+    Some((med(&mut walls), med(&mut cpus)))
+}
+
+fn section_a(runs: usize) {
+    println!("\n(a) bench512.pov (512² fractal, {W}x{H}, 1 light, shadows, no AA): full render");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench512");
+    std::fs::create_dir_all(&dir).unwrap();
+    write_pgm(&dir.join("bench512.pgm"), 512, &fractal(512, 7));
+    let scene_path = dir.join("bench512.pov");
+    std::fs::write(&scene_path, SCENE).unwrap();
+    let scene = parse_file_scene(&scene_path, SCENE, &ParseOptions::default(), &mut |w| {
+        eprintln!("{w}")
+    })
+    .unwrap();
+    let loaded = load_fields(&scene, &scene_path).unwrap();
+    let fields = build_fields(&scene, &loaded).unwrap();
+    let layout = SkipLayout::pyramid(512, 512, 3);
+    let buf = skip_buffer(&fields[0], layout);
+    let settings = RenderSettings::new(W, H);
+    let mut line = vec![Rgb888::default(); W as usize];
+    let mut results = Vec::new();
+    for (name, field) in [
+        (
+            "hfray flat walk",
+            fields[0].clone().with_traversal(Traversal::Flat),
+        ),
+        (
+            "hfray pyramid (8-cell blocks, 2 levels)",
+            with_grid(&fields[0], &buf, Traversal::Hierarchy),
+        ),
+    ] {
+        let fs = [field];
+        let mut stats = None;
+        let secs = median_secs(runs, || {
+            stats = Some(
+                render(&scene, &fs, &settings, &mut line, &mut |_, _| {
+                    ControlFlow::Continue(())
+                })
+                .unwrap(),
+            );
+        });
+        let s = stats.unwrap();
+        let rays = s.primary_rays + s.shadow_rays + s.reflected_rays + s.transmitted_rays;
+        println!(
+            "  {name:<42} {:>8.4} s  ({} rays, {:.2} Mrays/s incl. shading)",
+            secs,
+            rays,
+            rays as f64 / secs / 1e6
+        );
+        results.push(secs);
+    }
+    match povray_trace(&dir, runs) {
+        Some((wall, cpu)) => {
+            println!(
+                "  {:<42} {:>8.4} s  (Trace Time wall; {cpu:.3} CPU-seconds)",
+                "POV-Ray 3.7 +WT1 -A", wall
+            );
+            let best = results[1];
+            println!(
+                "  hfray pyramid / POV-Ray trace time = {:.3} (target <= 0.2); flat walk / POV-Ray = {:.3}",
+                best / wall,
+                results[0] / wall
+            );
+        }
+        None => println!("  POV-Ray not found (apt-get install povray): comparison skipped"),
+    }
+}
+
+fn section_b(runs: usize) {
+    use parry3d::math::Vector as PVec;
+    use parry3d::query::{Ray as PRay, RayCast};
+    use parry3d::shape::HeightField as PField;
+    use parry3d::utils::Array2;
+
     println!(
-        "{:>6} {:>10} {:>12} {:>12} {:>10} {:>12} {:>9}",
+        "\n(b) primary rays only, 512² fractal, {W}x{H} rays, hfray vs parry3d 0.31 HeightField"
+    );
+    let n = 512u32;
+    let data = fractal(n, 7);
+    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
+        .unwrap()
+        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
+    // parry: heights (row i along z, column j along x), column-major; vertex
+    // (i, j) at (-0.5 + j/(n-1), h, -0.5 + i/(n-1)) times `scale`; its
+    // default cell split is (x0,z0),(x0,z1),(x1,z0) + the other half, the
+    // same diagonal as POV-Ray's. So our object space is parry's shifted by
+    // (0.5, 0, 0.5), with the same (1, 0.3, 1) scale.
+    let mut col_major = Vec::with_capacity((n * n) as usize);
+    for x in 0..n {
+        for z in 0..n {
+            col_major.push(field.height(x, z));
+        }
+    }
+    let pf = PField::new(
+        Array2::new(n as usize, n as usize, col_major),
+        PVec::new(1.0, 0.3, 1.0),
+    );
+    let rays = primary_rays();
+    let shift = Vec3::new(0.5, 0.0, 0.5);
+    let prays: Vec<PRay> = rays
+        .iter()
+        .map(|r| {
+            let o = r.origin - shift;
+            PRay::new(
+                PVec::new(o.x, o.y, o.z),
+                PVec::new(r.direction.x, r.direction.y, r.direction.z),
+            )
+        })
+        .collect();
+    let buf = skip_buffer(&field, SkipLayout::pyramid(n, n, 3));
+    let ours = with_grid(&field, &buf, Traversal::Hierarchy);
+    // Agreement on the sample.
+    let (mut both, mut only_ours, mut only_parry, mut max_dt) = (0u32, 0u32, 0u32, 0f32);
+    for (r, pr) in rays.iter().zip(&prays) {
+        let a = ours.intersect(r, 0.0, f32::INFINITY);
+        let b = pf.cast_local_ray(pr, f32::MAX, true);
+        match (a, b) {
+            (Some(a), Some(b)) => {
+                both += 1;
+                max_dt = max_dt.max((a.t - b).abs());
+            }
+            (Some(_), None) => only_ours += 1,
+            (None, Some(_)) => only_parry += 1,
+            _ => {}
+        }
+    }
+    println!(
+        "  agreement: both hit {both}, only hfray {only_ours}, only parry {only_parry}, max |Δt| {max_dt:.2e} (field is 1 unit wide)"
+    );
+    let (ours_rate, _, _) = primary(&ours, &rays, runs);
+    let mut hits = 0;
+    let psecs = median_secs(runs.min(3), || {
+        hits = 0;
+        for pr in &prays {
+            hits += pf.cast_local_ray(pr, f32::MAX, true).is_some() as u32;
+        }
+    });
+    let parry_rate = prays.len() as f64 / psecs;
+    println!("  hfray pyramid f32   {:>8.3} Mrays/s", ours_rate / 1e6);
+    println!("  parry3d HeightField {:>8.3} Mrays/s", parry_rate / 1e6);
+    println!(
+        "  hfray / parry3d = {:.1}x (target >= 20x)",
+        ours_rate / parry_rate
+    );
+}
+
+fn section_c(runs: usize) {
+    println!("\n(c) scaling: same view, same landscape, primary rays, f32");
+    println!(
+        "  {:>6} {:>24} {:>10} {:>9} {:>8} {:>11} {:>10}",
         "field", "mode", "Mrays/s", "vs 256²", "hits", "visits/ray", "skip KiB"
     );
-    let mut base: Option<(f64, f64)> = None;
+    let rays = primary_rays();
+    let transform = Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap();
+    let mut base: Vec<f64> = Vec::new();
     for n in [256u32, 1024, 4096] {
         let data = fractal(n, 7);
         let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
             .unwrap()
             .with_transform(transform);
-        let layout = SkipLayout::pyramid(n, n, 3);
-        let mut buf = vec![0u8; SkipGrid::bytes_needed_for(&field, layout).unwrap()];
-        let grid = SkipGrid::build(&field, layout, &mut buf).unwrap();
-        let flat = field.clone().with_traversal(Traversal::Flat);
-        let hier = field.clone().with_skip(grid).unwrap();
-        let (rf, hf, vf) = primary::<f32>(&flat, &rays, runs);
-        let (rh, hh, vh) = primary::<f32>(&hier, &rays, runs);
-        assert_eq!(hf, hh);
-        let b = *base.get_or_insert((rf, rh));
-        println!(
-            "{:>6} {:>10} {:>12.3} {:>11.0}% {:>10} {:>12.1} {:>9}",
-            n,
-            "flat",
-            rf / 1e6,
-            100.0 * rf / b.0,
-            hf,
-            vf,
-            0
-        );
-        println!(
-            "{:>6} {:>10} {:>12.3} {:>11.0}% {:>10} {:>12.1} {:>9.1}",
-            n,
-            format!("pyr{}x8", layout.levels),
-            rh / 1e6,
-            100.0 * rh / b.1,
-            hh,
-            vh,
-            buf.len() as f64 / 1024.0
-        );
+        let layouts = [
+            ("flat walk", None),
+            ("blocks 8", Some((SkipLayout::blocks(3), Traversal::Blocks))),
+            (
+                "pyramid fan-out 8",
+                Some((SkipLayout::pyramid(n, n, 3), Traversal::Hierarchy)),
+            ),
+            (
+                "pyramid fan-out 4",
+                Some((SkipLayout::pyramid(n, n, 2), Traversal::Hierarchy)),
+            ),
+        ];
+        for (k, (name, layout)) in layouts.iter().enumerate() {
+            let buf = layout.map(|(l, _)| skip_buffer(&field, l));
+            let f = match (layout, &buf) {
+                (Some((l, mode)), Some(b)) => {
+                    let _ = l;
+                    with_grid(&field, b, *mode)
+                }
+                _ => field.clone().with_traversal(Traversal::Flat),
+            };
+            let (rate, hits, visits) = primary(&f, &rays, runs);
+            if base.len() <= k {
+                base.push(rate);
+            }
+            let levels = layout.map(|(l, _)| l.levels).unwrap_or(0);
+            println!(
+                "  {:>6} {:>24} {:>10.3} {:>8.0}% {:>8} {:>11.1} {:>10.1}",
+                format!("{n}²"),
+                if levels > 0 {
+                    format!("{name} ({levels} lv)")
+                } else {
+                    name.to_string()
+                },
+                rate / 1e6,
+                100.0 * rate / base[k],
+                hits,
+                visits,
+                buf.as_ref().map_or(0.0, |b| b.len() as f64 / 1024.0)
+            );
+        }
+    }
+}
+
+fn section_d(runs: usize) {
+    println!("\n(d) 512² fractal, primary rays: traversal mode x numeric path");
+    println!(
+        "  {:>24} {:>6} {:>10} {:>8} {:>11}",
+        "mode", "path", "Mrays/s", "hits", "visits/ray"
+    );
+    let n = 512;
+    let data = fractal(n, 7);
+    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
+        .unwrap()
+        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
+    let rays = primary_rays();
+    let blocks = skip_buffer(&field, SkipLayout::blocks(3));
+    let pyr = skip_buffer(&field, SkipLayout::pyramid(n, n, 3));
+    for (name, f) in [
+        ("flat walk", field.clone().with_traversal(Traversal::Flat)),
+        ("blocks 8", with_grid(&field, &blocks, Traversal::Blocks)),
+        (
+            "pyramid fan-out 8",
+            with_grid(&field, &pyr, Traversal::Hierarchy),
+        ),
+    ] {
+        for num in [Numeric::F32, Numeric::F64, Numeric::Q16, Numeric::Q32] {
+            let g = f.clone().with_numeric(num);
+            let (rate, hits, visits) = primary(&g, &rays, runs);
+            println!(
+                "  {:>24} {:>6} {:>10.3} {:>8} {:>11.1}",
+                name,
+                format!("{num:?}"),
+                rate / 1e6,
+                hits,
+                visits
+            );
+        }
+    }
+}
+
+fn main() {
+    let runs: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(5);
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_default();
+    println!(
+        "hfray bench: single thread, median of {runs} runs (thread CPU time); CPU: {cpu}; {} logical CPUs; load average {}",
+        std::thread::available_parallelism().map_or(0, |n| n.get()),
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .split_whitespace()
+            .take(3)
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    let only = std::env::args().nth(2).unwrap_or_default();
+    if only.is_empty() || only.contains('a') {
+        section_a(runs);
+    }
+    if only.is_empty() || only.contains('b') {
+        section_b(runs);
+    }
+    if only.is_empty() || only.contains('c') {
+        section_c(runs);
+    }
+    if only.is_empty() || only.contains('d') {
+        section_d(runs);
     }
 }

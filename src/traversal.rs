@@ -360,7 +360,9 @@ impl<S: Real> Walk<'_, S> {
                     };
                     let i_edge = edge(bi, su, i, self.cells_u);
                     let j_edge = edge(bj, sv, j, self.cells_v);
-                    let t_block = self.au.exit(i_edge, o[0]).min(self.av.exit(j_edge, o[2]));
+                    let (tu_edge, tv_edge) =
+                        (self.au.exit(i_edge, o[0]), self.av.exit(j_edge, o[2]));
+                    let t_block = tu_edge.min(tv_edge);
                     let t_end = t_block.min(self.t_far).max(t_a);
                     let y_a = o[1] + t_a * d[1];
                     let y_b = o[1] + t_end * d[1];
@@ -375,7 +377,7 @@ impl<S: Real> Walk<'_, S> {
                         if self.t_far <= t_block {
                             return None; // the walk ends inside the block
                         }
-                        let (ni, nj, exit) = self.jump(i, j, i_edge, j_edge);
+                        let (ni, nj, exit) = self.jump(i, j, i_edge, j_edge, tu_edge, tv_edge);
                         if ni < 0 || nj < 0 || ni >= self.cells_u || nj >= self.cells_v {
                             return None;
                         }
@@ -402,7 +404,19 @@ impl<S: Real> Walk<'_, S> {
     /// The first cell outside the block whose last cells, along u and v,
     /// are `i_edge` and `j_edge`, as the flat walk from `(i, j)` reaches it,
     /// and how it is entered.
-    fn jump(&self, i: i32, j: i32, i_edge: i32, j_edge: i32) -> (i32, i32, Exit) {
+    /// `tu_edge`, `tv_edge` are the exit parameters of the block's last
+    /// column and row (as `au.exit(i_edge)`, `av.exit(j_edge)`).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn jump(
+        &self,
+        i: i32,
+        j: i32,
+        i_edge: i32,
+        j_edge: i32,
+        tu_edge: S,
+        tv_edge: S,
+    ) -> (i32, i32, Exit) {
         let (su, sv) = (self.au.step, self.av.step);
         // One axis parallel: its boundary is "never" (MAX), and the caller
         // checked that the block is left before `t_far <= MAX`, so every
@@ -419,9 +433,13 @@ impl<S: Real> Walk<'_, S> {
         let at_u = |t: S| (o[0] + t * d[0]).floor_i32();
         let at_v = |t: S| (o[2] + t * d[2]).floor_i32();
         if self.v_strict {
-            block_exit(&a, &b, &at_u, &at_v, i, j, i_edge, j_edge, su, sv)
+            block_exit(
+                &a, &b, &at_u, &at_v, i, j, i_edge, j_edge, su, sv, tu_edge, tv_edge,
+            )
         } else {
-            let (q, p, kind) = block_exit(&b, &a, &at_v, &at_u, j, i, j_edge, i_edge, sv, su);
+            let (q, p, kind) = block_exit(
+                &b, &a, &at_v, &at_u, j, i, j_edge, i_edge, sv, su, tv_edge, tu_edge,
+            );
             let exit = match kind {
                 Exit::U => Exit::V,
                 Exit::V => Exit::U,
@@ -436,7 +454,7 @@ impl<S: Real> Walk<'_, S> {
 /// predicate that is false then true along the sequence and true at `to`.
 /// Starts at `guess` (clamped) and moves one step at a time: at most
 /// `|to − from|` evaluations, usually one or two.
-#[inline]
+#[inline(always)]
 fn first_true(pred: impl Fn(i32) -> bool, from: i32, to: i32, step: i32, guess: i32) -> i32 {
     let (lo, hi) = if step > 0 { (from, to) } else { (to, from) };
     let mut k = guess.clamp(lo, hi);
@@ -476,9 +494,10 @@ fn first_true(pred: impl Fn(i32) -> bool, from: i32, to: i32, step: i32, guess: 
 ///   `pa(c) = Q` (then `qb(q_edge − 1) < Q` by strictness).
 ///
 /// Returns the next cell and the step kind, with `Exit::U` standing for
-/// "along p" and `Exit::V` for "along q".
+/// "along p" and `Exit::V` for "along q". `big_p`, `big_q` are
+/// `pa(p_edge)`, `qb(q_edge)`, which the caller has at hand.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn block_exit<S: Real>(
     pa: &impl Fn(i32) -> S,
     qb: &impl Fn(i32) -> S,
@@ -490,9 +509,9 @@ fn block_exit<S: Real>(
     q_edge: i32,
     sp: i32,
     sq: i32,
+    big_p: S,
+    big_q: S,
 ) -> (i32, i32, Exit) {
-    let big_p = pa(p_edge);
-    let big_q = qb(q_edge);
     if big_p < big_q {
         let prev = if p_edge != p {
             Some(pa(p_edge - sp))
@@ -723,6 +742,8 @@ mod tests {
                         q_edge,
                         sp,
                         sq,
+                        pa(p_edge),
+                        qb(q_edge),
                     );
                     assert_eq!(
                         got, want,
