@@ -346,25 +346,30 @@ impl<S: Real> Walk<'_, S> {
         let max_passes = (self.cells_u + self.cells_v + 1) as u64 * (top as u64 + 1) + 1;
         'pass: for _ in 0..max_passes {
             let mut level = top;
+            // y at the walk's current parameter, shared by the block tests
+            // of this pass (the same expression as the cell test's).
+            let y_a = o[1] + t_a * d[1];
             while level >= 1 {
                 let shift = log2 * level as u32;
                 let (bi, bj) = ((i as u32) >> shift, (j as u32) >> shift);
                 if open[level as usize - 1] != (bi, bj) {
                     counters.blocks += 1;
-                    let edge = |b: u32, step: i32, cur: i32, cells: i32| -> i32 {
-                        match step {
-                            1 => (((b as i64 + 1) << shift) - 1).min(cells as i64 - 1) as i32,
-                            -1 => ((b as i64) << shift) as i32,
-                            _ => cur,
-                        }
+                    // Last cell of the block along each axis. `(b + 1) << shift`
+                    // is at most 2^20 + 2^30: no overflow.
+                    let i_edge = match su {
+                        1 => ((((bi + 1) << shift) - 1) as i32).min(self.cells_u - 1),
+                        -1 => (bi << shift) as i32,
+                        _ => i,
                     };
-                    let i_edge = edge(bi, su, i, self.cells_u);
-                    let j_edge = edge(bj, sv, j, self.cells_v);
+                    let j_edge = match sv {
+                        1 => ((((bj + 1) << shift) - 1) as i32).min(self.cells_v - 1),
+                        -1 => (bj << shift) as i32,
+                        _ => j,
+                    };
                     let (tu_edge, tv_edge) =
                         (self.au.exit(i_edge, o[0]), self.av.exit(j_edge, o[2]));
                     let t_block = tu_edge.min(tv_edge);
                     let t_end = t_block.min(self.t_far).max(t_a);
-                    let y_a = o[1] + t_a * d[1];
                     let y_b = o[1] + t_end * d[1];
                     let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
                     let (lo, hi) = skip.raw_bounds(level, bi, bj);
