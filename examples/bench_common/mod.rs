@@ -106,20 +106,30 @@ pub fn thread_cpu_secs() -> Option<f64> {
     Some(ns as f64 * 1e-9)
 }
 
-/// Runs `f` `runs` times; returns the median time in seconds: the thread's
-/// CPU time where the OS reports it (the machine is shared, so wall time
-/// also counts time spent waiting for a core), else wall time.
+/// Runs `f` `runs` times; returns the median time of one call in seconds:
+/// the thread's CPU time where the OS reports it (the machine is shared,
+/// so wall time also counts time spent waiting for a core), else wall time.
+/// The kernel updates that CPU time only every few milliseconds, so each
+/// sample repeats `f` until it has run at least 0.25 s and is divided by
+/// the repetitions.
 pub fn median_secs(runs: usize, mut f: impl FnMut()) -> f64 {
+    let start = Instant::now();
+    f();
+    let once = start.elapsed().as_secs_f64().max(1e-6);
+    let reps = ((0.25 / once).ceil() as usize).clamp(1, 10_000);
     let mut t: Vec<f64> = (0..runs)
         .map(|_| {
             let c0 = thread_cpu_secs();
             let s = Instant::now();
-            f();
+            for _ in 0..reps {
+                f();
+            }
             let wall = s.elapsed().as_secs_f64();
-            match (c0, thread_cpu_secs()) {
+            let secs = match (c0, thread_cpu_secs()) {
                 (Some(a), Some(b)) if b > a => b - a,
                 _ => wall,
-            }
+            };
+            secs / reps as f64
         })
         .collect();
     t.sort_by(|a, b| a.partial_cmp(b).unwrap());
