@@ -1,0 +1,20 @@
+//! Picks the board's memory map from the target and puts it where
+//! cortex-m-rt's `link.x` looks for `memory.x`.
+use std::{env, fs, path::PathBuf};
+
+fn main() {
+    let target = env::var("TARGET").unwrap_or_default();
+    let memory = if target.starts_with("thumbv6m") {
+        "memory-microbit.x"
+    } else if target.starts_with("thumbv7em") {
+        "memory-mps2-an386.x"
+    } else {
+        // Not a Cortex-M target (e.g. `cargo check` on the host): nothing to link.
+        return;
+    };
+    let out = PathBuf::from(env::var("OUT_DIR").unwrap());
+    fs::copy(memory, out.join("memory.x")).unwrap();
+    println!("cargo:rustc-link-search={}", out.display());
+    println!("cargo:rerun-if-changed={memory}");
+    println!("cargo:rerun-if-changed=build.rs");
+}
