@@ -224,61 +224,91 @@ fn to_u8(c: f32) -> u8 {
 pub fn render<E>(
     scene: &FirmwareScene,
     field: &HeightField<'_>,
-    mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
+    sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
 ) -> Result<RenderStats, E> {
-    let camera = PinholeCamera::new(&scene.camera);
-    let mut stats = RenderStats::default();
-    let (pigment, finish) = match scene.objects.first() {
-        Some(o) => (o.pigment, o.finish),
-        None => (Pigment::default(), Finish::default()),
-    };
-    let ambient = pigment.color * finish.ambient * scene.settings.ambient_light;
-    let mut line = [0u8; LINE_BYTES];
-    for y in 0..HEIGHT {
-        for x in 0..WIDTH {
-            let ray = camera.ray(x, y);
-            let color = match field.intersect_counted(&ray, 0.0, f32::INFINITY, &mut stats.counters)
-            {
-                None => scene.background,
-                Some(hit) => {
-                    stats.hits += 1;
-                    let mut n = field.smooth_normal(&hit);
-                    if n.dot(ray.direction) > 0.0 {
-                        n = -n;
-                    }
-                    let mut c = ambient;
-                    // Start shadow rays a hair off the surface, on the lit side.
-                    let origin = hit.point + hit.normal * 1e-4;
-                    for light in scene.lights.iter() {
-                        let to_light = light.position - origin;
-                        let l = to_light.normalize_or_zero();
-                        let lambert = n.dot(l);
-                        if lambert <= 0.0 {
-                            continue;
-                        }
-                        if field.occludes(
-                            &Ray::new(origin, to_light),
-                            1e-4,
-                            1.0,
-                            &mut stats.counters,
-                        ) {
-                            stats.shadowed += 1;
-                            continue;
-                        }
-                        c += pigment.color * light.color * (finish.diffuse * lambert);
-                    }
-                    c
-                }
-            };
-            line[x * 3] = to_u8(color.x);
-            line[x * 3 + 1] = to_u8(color.y);
-            line[x * 3 + 2] = to_u8(color.z);
+    Renderer::new(scene, field).render(sink)
+}
+
+/// The render split in two: [`Renderer::new`] does the per-frame setup
+/// (camera vectors; `libm::tanf`, which computes in `f64` inside), and
+/// [`Renderer::render`] the per-pixel work in `f32` only. The i486 build
+/// runs the two under different x87 precision settings.
+pub struct Renderer<'s, 'f> {
+    scene: &'s FirmwareScene,
+    field: &'s HeightField<'f>,
+    camera: PinholeCamera,
+}
+
+impl<'s, 'f> Renderer<'s, 'f> {
+    /// Per-frame setup.
+    pub fn new(scene: &'s FirmwareScene, field: &'s HeightField<'f>) -> Self {
+        Renderer {
+            scene,
+            field,
+            camera: PinholeCamera::new(&scene.camera),
         }
-        sink(y, &line)?;
     }
-    Ok(stats)
+
+    /// Renders the frame; see [`render`].
+    pub fn render<E>(
+        &self,
+        mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
+    ) -> Result<RenderStats, E> {
+        let (scene, field, camera) = (self.scene, self.field, &self.camera);
+        let mut stats = RenderStats::default();
+        let (pigment, finish) = match scene.objects.first() {
+            Some(o) => (o.pigment, o.finish),
+            None => (Pigment::default(), Finish::default()),
+        };
+        let ambient = pigment.color * finish.ambient * scene.settings.ambient_light;
+        let mut line = [0u8; LINE_BYTES];
+        for y in 0..HEIGHT {
+            for x in 0..WIDTH {
+                let ray = camera.ray(x, y);
+                let color =
+                    match field.intersect_counted(&ray, 0.0, f32::INFINITY, &mut stats.counters) {
+                        None => scene.background,
+                        Some(hit) => {
+                            stats.hits += 1;
+                            let mut n = field.smooth_normal(&hit);
+                            if n.dot(ray.direction) > 0.0 {
+                                n = -n;
+                            }
+                            let mut c = ambient;
+                            // Start shadow rays a hair off the surface, on the lit side.
+                            let origin = hit.point + hit.normal * 1e-4;
+                            for light in scene.lights.iter() {
+                                let to_light = light.position - origin;
+                                let l = to_light.normalize_or_zero();
+                                let lambert = n.dot(l);
+                                if lambert <= 0.0 {
+                                    continue;
+                                }
+                                if field.occludes(
+                                    &Ray::new(origin, to_light),
+                                    1e-4,
+                                    1.0,
+                                    &mut stats.counters,
+                                ) {
+                                    stats.shadowed += 1;
+                                    continue;
+                                }
+                                c += pigment.color * light.color * (finish.diffuse * lambert);
+                            }
+                            c
+                        }
+                    };
+                line[x * 3] = to_u8(color.x);
+                line[x * 3 + 1] = to_u8(color.y);
+                line[x * 3 + 2] = to_u8(color.z);
+            }
+            sink(y, &line)?;
+        }
+        Ok(stats)
+    }
 }
 
 /// The binary PPM header for the frame, so a streamed frame is viewable.
 pub const PPM_HEADER: &[u8] = b"P6\n96 64\n255\n";
 const _: () = assert!(WIDTH == 96 && HEIGHT == 64, "update PPM_HEADER");
+
