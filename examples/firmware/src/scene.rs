@@ -81,16 +81,20 @@ pub fn field_transform() -> Result<Transform, SceneError> {
 
 /// The scene as data: camera, one light, one smooth height field.
 pub fn build_scene() -> Result<FirmwareScene, SceneError> {
-    let mut scene = FirmwareScene::default();
-    scene.camera = CameraDesc {
-        projection: Projection::Perspective,
-        location: Vec3::new(0.35, 0.85, -0.95),
-        look_at: Vec3::new(0.0, 0.0, 0.02),
-        angle: Some(55.0),
-        right: Vec3::new(WIDTH as f32 / HEIGHT as f32, 0.0, 0.0),
-        ..CameraDesc::default()
+    let mut scene = FirmwareScene {
+        camera: CameraDesc {
+            projection: Projection::Perspective,
+            location: Vec3::new(0.35, 0.85, -0.95),
+            look_at: Vec3::new(0.0, 0.0, 0.02),
+            angle: Some(55.0),
+            right: Vec3::new(WIDTH as f32 / HEIGHT as f32, 0.0, 0.0),
+            ..CameraDesc::default()
+        },
+        background: Vec3::new(0.45, 0.62, 0.85),
+        ..FirmwareScene::default()
     };
-    // A low sun from the west-north-west, so the crater rim casts shadows.
+    // A low sun from the west (and a little south), so the crater rim and
+    // the western cone cast shadows.
     scene
         .lights
         .push(Light {
@@ -98,7 +102,6 @@ pub fn build_scene() -> Result<FirmwareScene, SceneError> {
             color: Vec3::ONE,
         })
         .map_err(|_| SceneError::Capacity)?;
-    scene.background = Vec3::new(0.45, 0.62, 0.85);
     scene
         .objects
         .push(Object {
@@ -311,4 +314,3 @@ impl<'s, 'f> Renderer<'s, 'f> {
 /// The binary PPM header for the frame, so a streamed frame is viewable.
 pub const PPM_HEADER: &[u8] = b"P6\n96 64\n255\n";
 const _: () = assert!(WIDTH == 96 && HEIGHT == 64, "update PPM_HEADER");
-
