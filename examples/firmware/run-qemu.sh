@@ -139,7 +139,7 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
     echo "target=$triple/$board frame_checksum=$(field frame_checksum "$line") host_checksum=$host_sum" \
         "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
         "instructions=${insns:-?} vfp_instructions=${vfp:-?} rodata_bytes=$(section_size "$elf" .rodata)" \
-        "stack_limit_bytes=$(field stack_limit_bytes "$line")"
+        "stack_limit_bytes=$(field stack_limit_bytes "$line") render_stack_bytes=$(field render_stack_bytes "$line")"
 done
 
 # --- i486: qemu-i386 -cpu 486 (instruction set, counts) and native (8 MiB) ---
@@ -168,7 +168,7 @@ fi
 echo "target=i586-unknown-linux-gnu/i486 frame_checksum=$(field frame_checksum "$line") host_checksum=$host_sum" \
     "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$i486_bin" .text)" \
     "instructions=${insns:-?} x87_instructions=${x87:-?} other_instructions=$(( ${insns:-0} - ${x87:-0} ))" \
-    "rodata_bytes=$(section_size "$i486_bin" .rodata) native_8MiB_checksum=$(field frame_checksum "$native") max_rss_kib=${rss:-?}"
+    "rodata_bytes=$(section_size "$i486_bin" .rodata) render_stack_bytes=$(field render_stack_bytes "$line") native_8MiB_checksum=$(field frame_checksum "$native") max_rss_kib=${rss:-?}"
 
 if ((status)); then
     echo "run-qemu.sh: FAILED (outputs in $out)" >&2

@@ -104,9 +104,10 @@ extern "C" {
 /// The value cortex-m-rt's `paint-stack` writes over the free RAM.
 const PAINT: u32 = 0xCCCC_CCCC;
 
-/// `(bytes of stack ever used, bytes available to the stack)`, from the
-/// painted region. Bounded by the region's size in words.
-fn stack_high_water() -> (usize, usize) {
+/// Lowest stack address ever written since the region was painted: scans
+/// up from `_stack_end` for the first word that is not the paint. Bounded
+/// by the region's size in words.
+fn lowest_used_stack_address() -> usize {
     let start = core::ptr::addr_of!(_stack_start) as usize;
     let end = core::ptr::addr_of!(_stack_end) as usize;
     let mut addr = end;
@@ -119,7 +120,28 @@ fn stack_high_water() -> (usize, usize) {
         }
         addr += 4;
     }
-    (start - addr, start - end)
+    addr
+}
+
+/// Gap left unpainted just below the stack pointer when repainting, so the
+/// painting code never writes over its own frame.
+const REPAINT_GAP: usize = 256;
+
+/// Paints `[_stack_end, sp - REPAINT_GAP)` again and returns `sp`, so a
+/// later [`lowest_used_stack_address`] measures what runs after this call.
+/// Inlined so `sp` is the caller's. Bounded by the region's size in words.
+#[inline(always)]
+fn repaint_below_sp() -> usize {
+    let sp = cortex_m::register::msp::read() as usize;
+    let end = core::ptr::addr_of!(_stack_end) as usize;
+    let mut addr = end;
+    while addr + REPAINT_GAP < sp {
+        // SAFETY: `[end, sp - REPAINT_GAP)` is stack RAM below every live
+        // frame (nothing runs but us: no interrupts are enabled).
+        unsafe { core::ptr::write_volatile(addr as *mut u32, PAINT) };
+        addr += 4;
+    }
+    sp
 }
 
 /// Host stdout, or fail.
@@ -170,6 +192,9 @@ fn main() -> ! {
         fail();
     }
     let mut hash = scene::Fnv1a::default();
+    // Total use since reset so far (setup), then measure the render alone.
+    let setup_low = lowest_used_stack_address();
+    let render_sp = repaint_below_sp();
     let stats = scene::render(&model, &field, |_, line| {
         hash.update(line);
         file.write_all(line)
@@ -184,11 +209,17 @@ fn main() -> ! {
     if file.close().is_err() {
         fail();
     }
-    let (used, limit) = stack_high_water();
+    let render_low = lowest_used_stack_address();
+    let top = core::ptr::addr_of!(_stack_start) as usize;
+    let limit = top - core::ptr::addr_of!(_stack_end) as usize;
+    // Whole program: reset handler, main's frame, the deepest call below.
+    let used = top - setup_low.min(render_low);
+    // The render call alone, below main's frame.
+    let render_used = render_sp - render_low;
     let _ = writeln!(
         out,
-        "board={BOARD} frame_checksum={:08x} stack_bytes={used} stack_limit_bytes={limit} \
-         hits={} shadowed={} cells={} triangle_tests={}",
+        "board={BOARD} frame_checksum={:08x} stack_bytes={used} render_stack_bytes={render_used} \
+         stack_limit_bytes={limit} hits={} shadowed={} cells={} triangle_tests={}",
         hash.0, stats.hits, stats.shadowed, stats.counters.cells, stats.counters.triangle_tests
     );
     debug::exit(debug::EXIT_SUCCESS);

@@ -186,21 +186,23 @@ struct PinholeCamera {
 impl PinholeCamera {
     /// POV-Ray semantics: `look_at` turns the camera so `direction` points
     /// at it (keeping `sky` up); `angle` sets `|direction|` from `|right|`.
+    /// Computed in `f64` and rounded to `f32` once per vector, so every
+    /// target gets the same bits (see the i486 notes in the README).
     fn new(c: &CameraDesc) -> Self {
-        let right_len = c.right.length();
-        let up_len = c.up.length();
-        let mut dir_len = c.direction.length();
+        let right_len = c.right.as_dvec3().length();
+        let up_len = c.up.as_dvec3().length();
+        let mut dir_len = c.direction.as_dvec3().length();
         if let Some(angle) = c.angle {
-            dir_len = 0.5 * right_len / libm::tanf(0.5 * angle.to_radians());
+            dir_len = 0.5 * right_len / libm::tan(0.5 * (angle as f64).to_radians());
         }
-        let forward = (c.look_at - c.location).normalize_or_zero();
-        let right = c.sky.cross(forward).normalize_or_zero();
+        let forward = (c.look_at.as_dvec3() - c.location.as_dvec3()).normalize_or_zero();
+        let right = c.sky.as_dvec3().cross(forward).normalize_or_zero();
         let up = forward.cross(right);
         PinholeCamera {
             location: c.location,
-            direction: forward * dir_len,
-            right: right * right_len,
-            up: up * up_len,
+            direction: (forward * dir_len).as_vec3(),
+            right: (right * right_len).as_vec3(),
+            up: (up * up_len).as_vec3(),
         }
     }
 
@@ -233,9 +235,9 @@ pub fn render<E>(
 }
 
 /// The render split in two: [`Renderer::new`] does the per-frame setup
-/// (camera vectors; `libm::tanf`, which computes in `f64` inside), and
-/// [`Renderer::render`] the per-pixel work in `f32` only. The i486 build
-/// runs the two under different x87 precision settings.
+/// (camera vectors, in `f64`), and [`Renderer::render`] the per-pixel work,
+/// in `f32` only. The i486 build runs the two under different x87
+/// precision settings (53 and 24 bits).
 pub struct Renderer<'s, 'f> {
     scene: &'s FirmwareScene,
     field: &'s HeightField<'f>,
