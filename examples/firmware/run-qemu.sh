@@ -83,9 +83,18 @@ plugin="$out/libinsn_count.so"
 gcc -O2 -shared -fPIC -fvisibility=hidden -o "$plugin" "$here/tools/qemu-insn-count/insn_count.c" >>"$log" 2>&1 ||
     { echo "run-qemu.sh: building the instruction-count plugin failed (see $log)" >&2; exit 1; }
 
-host_bin="$root/target/release/examples/firmware_host"
-fw_dir="$here/target"
-i486_bin="$here/i486/target/i586-unknown-linux-gnu/release/hfray-i486"
+# Where cargo put things (honours CARGO_TARGET_DIR and config files).
+target_dir() {
+    (cd "$1" && cargo metadata --format-version 1 --no-deps) |
+        sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p'
+}
+host_bin="$(target_dir "$root")/release/examples/firmware_host"
+fw_dir="$(target_dir "$here")"
+i486_bin="$(target_dir "$here/i486")/i586-unknown-linux-gnu/release/hfray-i486"
+for f in "$host_bin" "$fw_dir/thumbv6m-none-eabi/release/hfray-firmware" \
+    "$fw_dir/thumbv7em-none-eabihf/release/hfray-firmware" "$i486_bin"; do
+    [[ -f "$f" ]] || { echo "run-qemu.sh: built file not found: $f" >&2; exit 1; }
+done
 
 # --- helpers ----------------------------------------------------------------
 status=0
