@@ -1,10 +1,11 @@
 //! hfray on bare metal: a cortex-m-rt application that renders the scene of
-//! `scene.rs` (Maunga Whau, 96 × 64, one light, shadows) from a height field
-//! held in flash, streams every scanline to the host through semihosting,
-//! and reports the frame checksum and the stack high-water mark.
+//! `scene.rs` (Maunga Whau, 96 × 64, one light, shadows) with
+//! `hfray::render` from a height field held in flash, streams every scanline
+//! to the host through semihosting, and reports the frame checksum and the
+//! stack high-water mark.
 //!
 //! No `std`, no allocator, no frame buffer: the only frame-sized state is one
-//! scanline (288 bytes) on the stack.
+//! scanline (96 `Rgb888` pixels plus their 288 bytes) on the stack.
 //!
 //! Boards (chosen by target in `build.rs`):
 //! - `thumbv6m-none-eabi`: BBC micro:bit (`qemu-system-arm -machine microbit`),
@@ -14,7 +15,7 @@
 //!
 //! Output: the frame as a binary PPM in the host file `frame-BOARD.ppm`
 //! (QEMU's working directory), and one line on the host's stdout:
-//! `board=B frame_checksum=HEX stack_bytes=N stack_limit_bytes=N hits=N shadowed=N cells=N`.
+//! `board=B frame_checksum=HEX stack_bytes=N render_stack_bytes=N stack_limit_bytes=N hits=N ...`.
 //! Exits QEMU through semihosting (`SYS_EXIT`), non-zero on any failure.
 //!
 //! # Unsafe code (firmware crate only; the hfray core forbids it)
@@ -170,8 +171,8 @@ fn main() -> ! {
             fail()
         }
     };
-    let field = match scene::build_field(&model) {
-        Ok(f) => f,
+    let fields = match scene::build_field(&model) {
+        Ok(f) => [f],
         Err(e) => {
             let _ = writeln!(out, "board={BOARD} error=field:{e:?}");
             fail()
@@ -195,13 +196,17 @@ fn main() -> ! {
     // Total use since reset so far (setup), then measure the render alone.
     let setup_low = lowest_used_stack_address();
     let render_sp = repaint_below_sp();
-    let stats = scene::render(&model, &field, |_, line| {
+    let stats = scene::render(&model, &fields, |_, line| {
         hash.update(line);
         file.write_all(line)
     });
     let stats = match stats {
         Ok(s) => s,
-        Err(()) => {
+        Err(scene::FrameError::Render(e)) => {
+            let _ = writeln!(out, "board={BOARD} error=render:{e:?}");
+            fail()
+        }
+        Err(scene::FrameError::Sink(())) => {
             let _ = writeln!(out, "board={BOARD} error=semihosting-write");
             fail()
         }
@@ -219,8 +224,13 @@ fn main() -> ! {
     let _ = writeln!(
         out,
         "board={BOARD} frame_checksum={:08x} stack_bytes={used} render_stack_bytes={render_used} \
-         stack_limit_bytes={limit} hits={} shadowed={} cells={} triangle_tests={}",
-        hash.0, stats.hits, stats.shadowed, stats.counters.cells, stats.counters.triangle_tests
+         stack_limit_bytes={limit} hits={} shadow_rays={} shadow_hits={} cells={} triangle_tests={}",
+        hash.0,
+        stats.hits,
+        stats.shadow_rays,
+        stats.shadow_hits,
+        stats.cells,
+        stats.triangle_tests
     );
     debug::exit(debug::EXIT_SUCCESS);
     loop {

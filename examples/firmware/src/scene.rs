@@ -9,13 +9,16 @@
 //! It uses only `core` and `hfray`: no allocation, no frame buffer. The frame
 //! is handed out one scanline (`WIDTH * 3` RGB bytes) at a time.
 //!
-//! The scene is a [`hfray::scene::model::Scene`] (the same model the parser
-//! fills), so switching to `hfray::render` when it lands only replaces
-//! [`render`]'s body. Until then [`render`] is a small interim renderer that
-//! reads the model's camera, one light and the object's pigment/finish:
-//! POV-style perspective camera, ambient + Lambert diffuse, one shadow ray
-//! per hit (`HeightField::occludes`), smooth normals.
+//! The scene is a [`hfray::scene::model::Scene`] (the model the parser
+//! fills), rendered by hfray's own renderer: [`render`] calls
+//! [`hfray::render::render`]. [`Renderer`] is the same computation split
+//! into setup ([`hfray::Camera::new`], [`hfray::Tracer::new`]) and per-pixel
+//! work ([`hfray::Tracer::trace`]) for the i486 build, which must run the two
+//! under different x87 precision settings; the host reference checks that
+//! both give the same frame.
 #![allow(dead_code)]
+
+use core::ops::ControlFlow;
 
 use hfray::glam::{DVec3, Vec3};
 use hfray::heightfield::HeightFieldError;
@@ -23,7 +26,10 @@ use hfray::scene::model::{
     CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Projection, Scene, Shape,
 };
 use hfray::transform::TransformError;
-use hfray::{Counters, HeightConvention, HeightField, Ray, Samples, Transform};
+use hfray::{
+    Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb888, Samples,
+    Stats, Tracer, Transform,
+};
 
 /// Frame width in pixels.
 pub const WIDTH: usize = 96;
@@ -164,150 +170,95 @@ impl Fnv1a {
     }
 }
 
-/// What a render did.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct RenderStats {
-    /// Primary rays that hit the field.
-    pub hits: u32,
-    /// Of those, points in shadow.
-    pub shadowed: u32,
-    /// Traversal work (primary and shadow rays).
-    pub counters: Counters,
+/// Why a frame was not finished.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FrameError<E> {
+    /// hfray refused the scene (camera, shapes, fields).
+    Render(RenderError),
+    /// The sink failed; the render stopped there.
+    Sink(E),
 }
 
-/// POV-Ray's perspective camera reduced to the vectors a pixel needs.
-struct PinholeCamera {
-    location: Vec3,
-    direction: Vec3,
-    right: Vec3,
-    up: Vec3,
-}
-
-impl PinholeCamera {
-    /// POV-Ray semantics: `look_at` turns the camera so `direction` points
-    /// at it (keeping `sky` up); `angle` sets `|direction|` from `|right|`.
-    /// Computed in `f64` and rounded to `f32` once per vector, so every
-    /// target gets the same bits (see the i486 notes in the README).
-    fn new(c: &CameraDesc) -> Self {
-        let right_len = c.right.as_dvec3().length();
-        let up_len = c.up.as_dvec3().length();
-        let mut dir_len = c.direction.as_dvec3().length();
-        if let Some(angle) = c.angle {
-            dir_len = 0.5 * right_len / libm::tan(0.5 * (angle as f64).to_radians());
-        }
-        let forward = (c.look_at.as_dvec3() - c.location.as_dvec3()).normalize_or_zero();
-        let right = c.sky.as_dvec3().cross(forward).normalize_or_zero();
-        let up = forward.cross(right);
-        PinholeCamera {
-            location: c.location,
-            direction: (forward * dir_len).as_vec3(),
-            right: (right * right_len).as_vec3(),
-            up: (up * up_len).as_vec3(),
-        }
-    }
-
-    /// The primary ray through the centre of pixel `(x, y)` (row 0 at the top).
-    fn ray(&self, x: usize, y: usize) -> Ray {
-        let u = (x as f32 + 0.5) / WIDTH as f32 - 0.5;
-        let v = 0.5 - (y as f32 + 0.5) / HEIGHT as f32;
-        Ray::new(self.location, self.direction + self.right * u + self.up * v)
+/// Copies one row of pixels into RGB bytes.
+fn to_bytes(line: &[Rgb888; WIDTH], bytes: &mut [u8; LINE_BYTES]) {
+    for (dst, p) in bytes.chunks_exact_mut(3).zip(line.iter()) {
+        dst.copy_from_slice(&p.0);
     }
 }
 
-/// Linear `0..1` colour to an 8-bit channel (clamped, rounded).
-fn to_u8(c: f32) -> u8 {
-    (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
-}
-
-/// Renders the frame, handing each finished scanline (row 0 first,
-/// [`LINE_BYTES`] bytes) to `sink`. Stops at the first sink error.
-///
-/// Interim renderer (until `hfray::render` lands): per pixel one primary
-/// ray, the smooth normal, ambient + Lambert from each light, one shadow
-/// ray per light. Bounds: `HEIGHT × WIDTH` pixels, each one primary ray and
-/// `LIGHTS` shadow rays, each ray walks at most `W + D + 2` cells.
+/// Renders the frame with [`hfray::render::render`], handing each finished
+/// scanline (row 0 first, [`LINE_BYTES`] RGB bytes) to `sink`. Stops at the
+/// first sink error. State: one row of pixels and one of bytes (576 bytes).
 pub fn render<E>(
     scene: &FirmwareScene,
-    field: &HeightField<'_>,
-    sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
-) -> Result<RenderStats, E> {
-    Renderer::new(scene, field).render(sink)
-}
-
-/// The render split in two: [`Renderer::new`] does the per-frame setup
-/// (camera vectors, in `f64`), and [`Renderer::render`] the per-pixel work,
-/// in `f32` only. The i486 build runs the two under different x87
-/// precision settings (53 and 24 bits).
-pub struct Renderer<'s, 'f> {
-    scene: &'s FirmwareScene,
-    field: &'s HeightField<'f>,
-    camera: PinholeCamera,
-}
-
-impl<'s, 'f> Renderer<'s, 'f> {
-    /// Per-frame setup.
-    pub fn new(scene: &'s FirmwareScene, field: &'s HeightField<'f>) -> Self {
-        Renderer {
-            scene,
-            field,
-            camera: PinholeCamera::new(&scene.camera),
+    fields: &[HeightField<'_>],
+    mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
+) -> Result<Stats, FrameError<E>> {
+    let settings = RenderSettings::new(WIDTH as u32, HEIGHT as u32);
+    let mut line = [Rgb888::default(); WIDTH];
+    let mut bytes = [0u8; LINE_BYTES];
+    let mut failed = None;
+    let stats = hfray::render(scene, fields, &settings, &mut line, &mut |y, row| {
+        let row: &[Rgb888; WIDTH] = match row.try_into() {
+            Ok(r) => r,
+            Err(_) => return ControlFlow::Break(()),
+        };
+        to_bytes(row, &mut bytes);
+        match sink(y as usize, &bytes) {
+            Ok(()) => ControlFlow::Continue(()),
+            Err(e) => {
+                failed = Some(e);
+                ControlFlow::Break(())
+            }
         }
+    })
+    .map_err(FrameError::Render)?;
+    match failed {
+        Some(e) => Err(FrameError::Sink(e)),
+        None => Ok(stats),
+    }
+}
+
+/// [`render`] split in two: [`Renderer::new`] is the per-frame setup
+/// (camera and tracer; `f64` inside hfray), [`Renderer::render`] the
+/// per-pixel work (`f32` only). Same arithmetic as `hfray::render` with
+/// `aa = 1`: one ray through each pixel centre, `Rgb888::from_linear`.
+pub struct Renderer<'s> {
+    camera: Camera,
+    tracer: Tracer<'s, 1>,
+}
+
+impl<'s> Renderer<'s> {
+    /// Per-frame setup.
+    pub fn new(
+        scene: &'s FirmwareScene,
+        fields: &'s [HeightField<'s>],
+    ) -> Result<Self, RenderError> {
+        Ok(Renderer {
+            camera: Camera::new(&scene.camera, WIDTH as u32, HEIGHT as u32)
+                .map_err(RenderError::Camera)?,
+            tracer: Tracer::new(scene, fields)?,
+        })
     }
 
-    /// Renders the frame; see [`render`].
+    /// Renders the frame; see [`render`]. Bounds: `HEIGHT × WIDTH` pixels,
+    /// each one `Tracer::trace` (itself bounded by hfray).
     pub fn render<E>(
         &self,
         mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
-    ) -> Result<RenderStats, E> {
-        let (scene, field, camera) = (self.scene, self.field, &self.camera);
-        let mut stats = RenderStats::default();
-        let (pigment, finish) = match scene.objects.first() {
-            Some(o) => (o.pigment, o.finish),
-            None => (Pigment::default(), Finish::default()),
-        };
-        let ambient = pigment.color * finish.ambient * scene.settings.ambient_light;
-        let mut line = [0u8; LINE_BYTES];
+    ) -> Result<Stats, E> {
+        let mut stats = Stats::default();
+        let mut line = [Rgb888::default(); WIDTH];
+        let mut bytes = [0u8; LINE_BYTES];
         for y in 0..HEIGHT {
-            for x in 0..WIDTH {
-                let ray = camera.ray(x, y);
-                let color =
-                    match field.intersect_counted(&ray, 0.0, f32::INFINITY, &mut stats.counters) {
-                        None => scene.background,
-                        Some(hit) => {
-                            stats.hits += 1;
-                            let mut n = field.smooth_normal(&hit);
-                            if n.dot(ray.direction) > 0.0 {
-                                n = -n;
-                            }
-                            let mut c = ambient;
-                            // Start shadow rays a hair off the surface, on the lit side.
-                            let origin = hit.point + hit.normal * 1e-4;
-                            for light in scene.lights.iter() {
-                                let to_light = light.position - origin;
-                                let l = to_light.normalize_or_zero();
-                                let lambert = n.dot(l);
-                                if lambert <= 0.0 {
-                                    continue;
-                                }
-                                if field.occludes(
-                                    &Ray::new(origin, to_light),
-                                    1e-4,
-                                    1.0,
-                                    &mut stats.counters,
-                                ) {
-                                    stats.shadowed += 1;
-                                    continue;
-                                }
-                                c += pigment.color * light.color * (finish.diffuse * lambert);
-                            }
-                            c
-                        }
-                    };
-                line[x * 3] = to_u8(color.x);
-                line[x * 3 + 1] = to_u8(color.y);
-                line[x * 3 + 2] = to_u8(color.z);
+            for (x, px) in line.iter_mut().enumerate() {
+                let ray = self.camera.pixel_ray(x as u32, y as u32);
+                let c = self.tracer.trace(&ray, &mut stats);
+                *px = Rgb888::from_linear(c, x as u32, y as u32);
             }
-            sink(y, &line)?;
+            stats.rows += 1;
+            to_bytes(&line, &mut bytes);
+            sink(y, &bytes)?;
         }
         Ok(stats)
     }

@@ -6,7 +6,7 @@
 //! rejects any instruction the 486 lacks. It renders the same scene with the
 //! same code (`../../src/scene.rs`), writes the frame to `frame-i486.ppm`
 //! and prints one line on stdout:
-//! `board=i486 frame_checksum=HEX stack_bytes=N hits=N shadowed=N cells=N triangle_tests=N`.
+//! `board=i486 frame_checksum=HEX stack_bytes=N render_stack_bytes=N hits=N shadow_rays=N ...`.
 //!
 //! # What the C runtime would have done, done here
 //! - `_start` (assembly): clear the frame pointer, align the stack to 16
@@ -258,8 +258,8 @@ extern "C" fn start(stack_top: usize) -> ! {
         Ok(s) => s,
         Err(_) => fail("scene"),
     };
-    let field = match scene::build_field(&model) {
-        Ok(f) => f,
+    let fields = match scene::build_field(&model) {
+        Ok(f) => [f],
         Err(_) => fail("field"),
     };
     // O_WRONLY | O_CREAT | O_TRUNC, mode 0644.
@@ -271,13 +271,16 @@ extern "C" fn start(stack_top: usize) -> ! {
     if write_all(fd, scene::PPM_HEADER).is_err() {
         fail("write");
     }
-    let renderer = scene::Renderer::new(&model, &field);
+    let renderer = match scene::Renderer::new(&model, &fields) {
+        Ok(r) => r,
+        Err(_) => fail("render-setup"),
+    };
     let mut hash = scene::Fnv1a::default();
     // Pin the setup's results in memory before the precision changes:
     // black_box makes them escape, so their (f64/x87) computation cannot be
     // sunk below the `fldcw` (LLVM does not know the control word matters).
     core::hint::black_box(&model);
-    core::hint::black_box(&field);
+    core::hint::black_box(&fields);
     core::hint::black_box(&renderer);
     let setup_low = lowest_used_stack_address(stack_top);
     let render_sp = repaint_below_sp(stack_top);
@@ -299,8 +302,8 @@ extern "C" fn start(stack_top: usize) -> ! {
     let _ = writeln!(
         Stdout,
         "board=i486 frame_checksum={:08x} stack_bytes={used} render_stack_bytes={render_used} \
-         hits={} shadowed={} cells={} triangle_tests={}",
-        hash.0, stats.hits, stats.shadowed, stats.counters.cells, stats.counters.triangle_tests
+         hits={} shadow_rays={} shadow_hits={} cells={} triangle_tests={}",
+        hash.0, stats.hits, stats.shadow_rays, stats.shadow_hits, stats.cells, stats.triangle_tests
     );
     exit(0)
 }
