@@ -68,6 +68,14 @@ fn full_render_performs_zero_allocations() {
     assert!(stats.shadow_rays > 0 && stats.reflected_rays > 0 && stats.transmitted_rays > 0);
     assert!(depth_stats.primary_rays > 0 && checksum != 0);
     // ...and asked the allocator for nothing.
-    assert_eq!(after.allocations - before.allocations, 0, "allocations during render");
-    assert_eq!(after.peak_bytes - before.current_bytes, 0, "bytes during render");
+    assert_eq!(
+        after.allocations - before.allocations,
+        0,
+        "allocations during render"
+    );
+    assert_eq!(
+        after.peak_bytes - before.current_bytes,
+        0,
+        "bytes during render"
+    );
 }
