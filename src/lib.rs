@@ -6,6 +6,7 @@
 #![deny(missing_docs)]
 
 mod cell;
+pub mod generate;
 pub mod heightfield;
 pub mod ray;
 pub mod real;
