@@ -77,22 +77,26 @@ fn pick<S: Real>(one: bool) -> S {
     }
 }
 
-impl<S: Real> BoundaryPoint<S> {
-    /// Samples `g` at parameter `t` placed at `place` of the cell whose
-    /// corner `(0, 0)` is at grid `(cu, cv)`.
+/// One cell as the ray sees it: the ray (grid space), the cell's corner
+/// `(cu, cv)`, its corner heights and the water level.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Cell<'r, S> {
+    pub origin: &'r [S; 3],
+    pub dir: &'r [S; 3],
+    pub cu: S,
+    pub cv: S,
+    pub corners: Corners<S>,
+    pub water: S,
+}
+
+impl<S: Real> Cell<'_, S> {
+    /// Samples `g` at parameter `t`, a point of the ray at `place`.
     #[inline]
-    pub fn new(
-        t: S,
-        place: Place,
-        origin: &[S; 3],
-        dir: &[S; 3],
-        cu: S,
-        cv: S,
-        c: &Corners<S>,
-    ) -> Self {
+    pub fn point(&self, t: S, place: Place) -> BoundaryPoint<S> {
+        let (origin, dir, c) = (self.origin, self.dir, &self.corners);
         let y = origin[1] + t * dir[1];
-        let u = || clamp01(origin[0] + t * dir[0] - cu);
-        let v = || clamp01(origin[2] + t * dir[2] - cv);
+        let u = || clamp01(origin[0] + t * dir[0] - self.cu);
+        let v = || clamp01(origin[2] + t * dir[2] - self.cv);
         let (fu, fv, h) = match place {
             Place::Interior => {
                 let (fu, fv) = (u(), v());
@@ -140,91 +144,95 @@ pub(crate) struct Crossing<S> {
     pub fv: S,
 }
 
-/// Finds the first crossing of the ray with the cell's surface between
-/// `a` and `b`, ignoring surface below `water`. `tests` counts the
-/// triangle pieces examined.
-#[inline]
-pub(crate) fn first_crossing<S: Real>(
-    a: &BoundaryPoint<S>,
-    b: &BoundaryPoint<S>,
-    origin: &[S; 3],
-    dir: &[S; 3],
-    cu: S,
-    c: &Corners<S>,
-    water: S,
-    tests: &mut u64,
-) -> Option<Crossing<S>> {
-    let s_a = a.fu + a.fv - S::ONE;
-    let s_b = b.fu + b.fv - S::ONE;
-    let crosses_diagonal = (s_a < S::ZERO && s_b > S::ZERO) || (s_a > S::ZERO && s_b < S::ZERO);
-    if !crosses_diagonal {
-        *tests += 1;
-        let tri = if s_a + s_b <= S::ZERO {
-            Triangle::A
-        } else {
-            Triangle::B
-        };
-        return piece(a, b, tri, origin, dir, c, water);
-    }
-    // The diagonal fu + fv = 1 is crossed strictly inside the segment.
-    let lambda = s_a / (s_a - s_b);
-    let t_d = (a.t + (b.t - a.t) * lambda).max(a.t).min(b.t);
-    let fu_d = clamp01(origin[0] + t_d * dir[0] - cu);
-    let h_d = c.h01 + fu_d * (c.h10 - c.h01);
-    let d = BoundaryPoint {
-        t: t_d,
-        fu: fu_d,
-        fv: S::ONE - fu_d,
-        g: origin[1] + t_d * dir[1] - h_d,
-    };
-    let (first, second) = if s_a < S::ZERO {
-        (Triangle::A, Triangle::B)
-    } else {
-        (Triangle::B, Triangle::A)
-    };
-    *tests += 1;
-    if let Some(hit) = piece(a, &d, first, origin, dir, c, water) {
-        return Some(hit);
-    }
-    *tests += 1;
-    piece(&d, b, second, origin, dir, c, water)
-}
-
-/// The crossing on one linear piece of `g`, if any.
-#[inline]
-fn piece<S: Real>(
-    p: &BoundaryPoint<S>,
-    q: &BoundaryPoint<S>,
-    triangle: Triangle,
-    origin: &[S; 3],
-    dir: &[S; 3],
-    c: &Corners<S>,
-    water: S,
-) -> Option<Crossing<S>> {
-    let zero = S::ZERO;
-    let lambda = if p.g == zero {
-        if q.g == zero {
-            // The ray lies in the triangle's plane: the first point at or
-            // above the water level is the hit.
-            return in_plane(p, q, triangle, origin, dir, water);
+impl<S: Real> Cell<'_, S> {
+    /// Finds the first crossing of the ray with the cell's surface between
+    /// `a` and `b`, ignoring surface below the water. `tests` counts the
+    /// triangle pieces examined.
+    #[inline]
+    pub fn first_crossing(
+        &self,
+        a: &BoundaryPoint<S>,
+        b: &BoundaryPoint<S>,
+        tests: &mut u64,
+    ) -> Option<Crossing<S>> {
+        let s_a = a.fu + a.fv - S::ONE;
+        let s_b = b.fu + b.fv - S::ONE;
+        let crosses_diagonal = (s_a < S::ZERO && s_b > S::ZERO) || (s_a > S::ZERO && s_b < S::ZERO);
+        if !crosses_diagonal {
+            *tests += 1;
+            let tri = if s_a + s_b <= S::ZERO {
+                Triangle::A
+            } else {
+                Triangle::B
+            };
+            return self.piece(a, b, tri);
         }
-        zero
-    } else if (p.g > zero && q.g <= zero) || (p.g < zero && q.g >= zero) {
-        clamp01(p.g / (p.g - q.g))
-    } else {
-        return None;
-    };
-    let at = lerp_point(p, q, lambda);
-    let h = c.plane_height(at.fu, at.fv);
-    if h < water {
-        return None;
+        // The diagonal fu + fv = 1 is crossed strictly inside the segment.
+        let lambda = s_a / (s_a - s_b);
+        let t_d = (a.t + (b.t - a.t) * lambda).max(a.t).min(b.t);
+        let fu_d = clamp01(self.origin[0] + t_d * self.dir[0] - self.cu);
+        let c = &self.corners;
+        let h_d = c.h01 + fu_d * (c.h10 - c.h01);
+        let d = BoundaryPoint {
+            t: t_d,
+            fu: fu_d,
+            fv: S::ONE - fu_d,
+            g: self.origin[1] + t_d * self.dir[1] - h_d,
+        };
+        let (first, second) = if s_a < S::ZERO {
+            (Triangle::A, Triangle::B)
+        } else {
+            (Triangle::B, Triangle::A)
+        };
+        *tests += 1;
+        if let Some(hit) = self.piece(a, &d, first) {
+            return Some(hit);
+        }
+        *tests += 1;
+        self.piece(&d, b, second)
     }
-    Some(Crossing {
-        t: at.t,
-        triangle,
-        fu: at.fu,
-        fv: at.fv,
-    })
+
+    /// The crossing on one linear piece of `g`, if any.
+    #[inline]
+    fn piece(
+        &self,
+        p: &BoundaryPoint<S>,
+        q: &BoundaryPoint<S>,
+        triangle: Triangle,
+    ) -> Option<Crossing<S>> {
+        let (c, water) = (&self.corners, self.water);
+        let zero = S::ZERO;
+        let lambda = if p.g == zero {
+            if q.g == zero {
+                // The ray lies in the triangle's plane: the first point at or
+                // above the water level is the hit.
+                return in_plane(p, q, triangle, self.origin, self.dir, water);
+            }
+            zero
+        } else if (p.g > zero && q.g <= zero) || (p.g < zero && q.g >= zero) {
+            clamp01(p.g / (p.g - q.g))
+        } else {
+            return None;
+        };
+        let at = lerp_point(p, q, lambda);
+        // Only a triangle with a vertex under water can lose the hit to it.
+        // Elsewhere the test is skipped rather than trusted: near an edge the
+        // rounded (fu, fv) may sit a hair outside the triangle, and its plane
+        // extrapolated there can dip below a water level it never reaches.
+        let lowest = match triangle {
+            Triangle::A => c.h00.min(c.h10).min(c.h01),
+            Triangle::B => c.h11.min(c.h01).min(c.h10),
+        };
+        if lowest < water && c.plane_height(at.fu, at.fv) < water {
+            return None;
+        }
+        Some(Crossing {
+            t: at.t,
+            triangle,
+            fu: at.fu,
+            fv: at.fv,
+        })
+    }
 }
 
 struct Lerped<S> {

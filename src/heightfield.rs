@@ -147,7 +147,6 @@ pub struct HeightField<'a> {
     max_units: u32,
     transform: Transform,
     world_to_grid64: DAffine3,
-    world_to_grid32: [[f32; 4]; 3],
     /// Inverse transpose of the grid-to-world linear map: carries grid-space
     /// normals to world space.
     normal_matrix: glam::Mat3,
@@ -201,7 +200,6 @@ impl<'a> HeightField<'a> {
             max_units: hi * mult,
             transform: Transform::IDENTITY,
             world_to_grid64: DAffine3::IDENTITY,
-            world_to_grid32: [[0.0; 4]; 3],
             normal_matrix: glam::Mat3::IDENTITY,
         };
         field.update_grid_transform();
@@ -243,28 +241,6 @@ impl<'a> HeightField<'a> {
         ));
         let w2g = grid * *self.transform.to_object();
         self.world_to_grid64 = w2g;
-        let m = w2g.matrix3;
-        let t = w2g.translation;
-        self.world_to_grid32 = [
-            [
-                m.x_axis.x as f32,
-                m.y_axis.x as f32,
-                m.z_axis.x as f32,
-                t.x as f32,
-            ],
-            [
-                m.x_axis.y as f32,
-                m.y_axis.y as f32,
-                m.z_axis.y as f32,
-                t.y as f32,
-            ],
-            [
-                m.x_axis.z as f32,
-                m.y_axis.z as f32,
-                m.z_axis.z as f32,
-                t.z as f32,
-            ],
-        ];
         let g2w = self.transform.to_world().matrix3
             * glam::DMat3::from_diagonal(DVec3::new(
                 1.0 / (self.width - 1) as f64,
@@ -348,35 +324,20 @@ impl<'a> HeightField<'a> {
         (self.min_units, self.max_units)
     }
 
-    /// World ray into grid space in the precision `S`.
+    /// World ray into grid space, computed in `f64` whatever `S` is, then
+    /// rounded once. The product of a world point with the world-to-grid
+    /// matrix cancels heavily when the camera is far from the field; done
+    /// in `f32` that cancellation cost up to 1e-4 relative in hit distance
+    /// (measured by tests/oracle.rs), in `f64` it costs nothing visible.
+    /// Twelve multiply-adds per ray, against dozens of cells walked.
     #[inline]
     pub(crate) fn grid_ray<S: Real>(&self, origin: [S; 3], direction: [S; 3]) -> GridRay<S> {
-        let mut o = [S::ZERO; 3];
-        let mut d = [S::ZERO; 3];
-        if core::mem::size_of::<S>() == 8 {
-            let m = &self.world_to_grid64;
-            let cols = [m.matrix3.x_axis, m.matrix3.y_axis, m.matrix3.z_axis];
-            let t = [m.translation.x, m.translation.y, m.translation.z];
-            for r in 0..3 {
-                let row = [cols[0][r], cols[1][r], cols[2][r]];
-                o[r] = S::from_f64(t[r]);
-                for c in 0..3 {
-                    o[r] = o[r] + S::from_f64(row[c]) * origin[c];
-                    d[r] = d[r] + S::from_f64(row[c]) * direction[c];
-                }
-            }
-        } else {
-            for (r, row) in self.world_to_grid32.iter().enumerate() {
-                o[r] = S::from_f32(row[3]);
-                for c in 0..3 {
-                    o[r] = o[r] + S::from_f32(row[c]) * origin[c];
-                    d[r] = d[r] + S::from_f32(row[c]) * direction[c];
-                }
-            }
-        }
+        let m = &self.world_to_grid64;
+        let o = m.transform_point3(DVec3::from_array(origin.map(S::to_f64)));
+        let d = m.transform_vector3(DVec3::from_array(direction.map(S::to_f64)));
         GridRay {
-            origin: o,
-            direction: d,
+            origin: o.to_array().map(S::from_f64),
+            direction: d.to_array().map(S::from_f64),
         }
     }
 

@@ -29,6 +29,8 @@ pub trait Real:
     const ONE: Self;
     /// The largest finite value; stands in for "never" (+infinity).
     const MAX: Self;
+    /// The gap between 1 and the next representable value.
+    const EPSILON: Self;
     /// Conversion from `f32` (saturating for types with a smaller range).
     fn from_f32(v: f32) -> Self;
     /// Conversion from `f64` (saturating for types with a smaller range).
@@ -80,6 +82,7 @@ impl Real for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const MAX: Self = f32::MAX;
+    const EPSILON: Self = f32::EPSILON;
     #[inline]
     fn from_f32(v: f32) -> Self {
         v
@@ -118,6 +121,7 @@ impl Real for f64 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const MAX: Self = f64::MAX;
+    const EPSILON: Self = f64::EPSILON;
     #[inline]
     fn from_f32(v: f32) -> Self {
         v as f64

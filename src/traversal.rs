@@ -21,7 +21,7 @@
 //! - The loop runs at most `(width − 1) + (depth − 1)` times, whatever the
 //!   input; non-finite input is a miss, not a hang.
 
-use crate::cell::{first_crossing, BoundaryPoint, Corners, Place};
+use crate::cell::{Cell, Corners, Place};
 use crate::heightfield::HeightField;
 use crate::ray::Triangle;
 use crate::real::Real;
@@ -179,8 +179,8 @@ pub(crate) fn nearest<S: Real>(
     if d.iter().all(|&v| v == S::ZERO) {
         return None;
     }
-    // NaN bounds fail these comparisons and miss.
-    if !(t_min <= t_max) {
+    // NaN bounds compare as unordered and miss.
+    if t_min.partial_cmp(&t_max).is_none_or(|o| o.is_gt()) {
         return None;
     }
     let t_max = if t_max.is_finite() { t_max } else { S::MAX };
@@ -199,8 +199,13 @@ pub(crate) fn nearest<S: Real>(
     let ay = Axis::new(d[1]);
     let av = Axis::new(d[2]);
     let water = S::from_f32(field.water_level());
-    let y_lo = S::from_height_units(min_units).max(water);
-    let y_hi = S::from_height_units(max_units);
+    // The height slab is widened so that the ray enters and leaves it
+    // strictly above and below the surface: clipped exactly at a flat
+    // field's height, a rounded `y(t)` could land on either side and the
+    // crossing there would be lost. Cells entered early are culled cheaply.
+    let margin = S::from_f32(1.0 / 64.0) + o[1].abs() * S::EPSILON * S::from_i32(16);
+    let y_lo = S::from_height_units(min_units).max(water) - margin;
+    let y_hi = S::from_height_units(max_units) + margin;
     let mut span = (t_min, t_max);
     if !(slab(o[0], &au, S::ZERO, S::from_i32(cells_u), &mut span)
         && slab(o[1], &ay, y_lo, y_hi, &mut span)
@@ -250,19 +255,23 @@ pub(crate) fn nearest<S: Real>(
             || y_high < S::from_height_units(c_min)
             || y_high < water;
         if !culled {
-            let cu = S::from_i32(i);
-            let cv = S::from_i32(j);
-            let a = BoundaryPoint::new(t_a, entry, o, d, cu, cv, &c);
+            let cell = Cell {
+                origin: o,
+                dir: d,
+                cu: S::from_i32(i),
+                cv: S::from_i32(j),
+                corners: c,
+                water,
+            };
+            let a = cell.point(t_a, entry);
             let exit_place = match exit {
                 Exit::U => Place::EdgeU(au.step > 0),
                 Exit::V => Place::EdgeV(av.step > 0),
                 Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
                 Exit::End => Place::Interior,
             };
-            let b = BoundaryPoint::new(t_b, exit_place, o, d, cu, cv, &c);
-            if let Some(hit) =
-                first_crossing(&a, &b, o, d, cu, &c, water, &mut counters.triangle_tests)
-            {
+            let b = cell.point(t_b, exit_place);
+            if let Some(hit) = cell.first_crossing(&a, &b, &mut counters.triangle_tests) {
                 return Some(GridHit {
                     t: hit.t,
                     cell_x: i as u32,

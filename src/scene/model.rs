@@ -33,7 +33,9 @@ pub struct CameraDesc {
     pub projection: Projection,
     /// `location`.
     pub location: Vec3,
-    /// `look_at`.
+    /// `look_at`. When a scene's camera block gives none, the parser
+    /// records `location + direction` (POV-Ray then looks along
+    /// `direction`).
     pub look_at: Vec3,
     /// `angle` in degrees (horizontal field of view), if given.
     pub angle: Option<f32>,
