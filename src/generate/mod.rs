@@ -11,9 +11,9 @@
 //! - is deterministic: the same parameters and seed give the same bytes
 //!   every time, so a seed names a field (the tests pin checksums). The
 //!   PRNG is our own ([`rng`]), so no dependency update can change a
-//!   stream. [`plasma`], [`fire`] and the fractal of [`wood`] are pure
-//!   integer arithmetic: identical on every target. [`crater`], [`drops`]
-//!   and the circle of [`wood`] use `f64` (`libm::sqrt`, which is
+//!   stream. [`plasma()`], [`fire()`] and the fractal of [`wood()`] are pure
+//!   integer arithmetic: identical on every target. [`crater()`], [`drops()`]
+//!   and the circle of [`wood()`] use `f64` (`libm::sqrt`, which is
 //!   correctly rounded, and `libm::sin`/`exp`, pure-Rust and the same on
 //!   every target for one `libm` version); they are identical on every
 //!   target with IEEE binary64 arithmetic (all but x87-only i586, where
@@ -25,11 +25,11 @@
 //!
 //! | generator | thesis | what it makes |
 //! |---|---|---|
-//! | [`plasma`] | §6.2.1.2 | plasma fractal: mountains, islands |
-//! | [`crater`] | §4.2.2.2 | concentric circles of rising index |
-//! | [`drops`] | §6.2.2 | water-drop ripples, one field per frame |
-//! | [`fire`] | §6.2.4 | demo-scene fire + [`fire::FIRE_PALETTE`] |
-//! | [`wood`] | §6.2.3 | broken wood: fractal in a circle, 0 outside |
+//! | [`plasma()`] | §6.2.1.2 | plasma fractal: mountains, islands |
+//! | [`crater()`] | §4.2.2.2 | concentric circles of rising index |
+//! | [`drops()`] | §6.2.2 | water-drop ripples, one field per frame |
+//! | [`fire()`] | §6.2.4 | demo-scene fire + [`FIRE_PALETTE`] |
+//! | [`wood()`] | §6.2.3 | broken wood: fractal in a circle, 0 outside |
 
 pub mod crater;
 pub mod drops;

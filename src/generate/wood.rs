@@ -3,7 +3,7 @@
 //! discards everything outside the circle, and the field caps a cylinder
 //! (the trunk) as its jagged broken end.
 //!
-//! Inside the circle the sample is a [`super::plasma`] fractal mapped to
+//! Inside the circle the sample is a [`super::plasma()`] fractal mapped to
 //! `low..=255` (so it is never 0 and survives any `water_level` below
 //! `low / 256`); outside it is 0. The circle is on the height field's unit
 //! square (column `c` at `c / (width − 1)`, row `r` at `r / (depth − 1)`),
