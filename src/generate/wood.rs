@@ -11,6 +11,13 @@
 //!
 //! To cut the outside away use `water_level` between `0` and `low / 256`
 //! exclusive, e.g. `0.5 / 256` for the default `low = 1`.
+//!
+//! `grain` stretches the fractal along the image's rows (z), so ridges run
+//! one way like the torn fibres of a real break: the plasma is generated
+//! on the first `(depth − 1) / grain + 1` rows of the output and expanded
+//! in place, bottom row first, by linear interpolation between rows (a
+//! row is only ever read from rows at or above it, which are not yet
+//! overwritten). Integer arithmetic, no extra memory.
 
 use super::plasma::{plasma, Plasma};
 use super::{check_grid, check_range, GenerateError};
@@ -28,6 +35,8 @@ pub struct Wood {
     pub radius: f64,
     /// The lowest index inside the circle, `1..=255`.
     pub low: u8,
+    /// Fibre stretch along z, `1..=64`: 1 is isotropic, 4–8 splintery.
+    pub grain: u8,
 }
 
 impl Default for Wood {
@@ -39,6 +48,29 @@ impl Default for Wood {
             centre: [0.5, 0.5],
             radius: 0.5,
             low: 1,
+            grain: 1,
+        }
+    }
+}
+
+/// Expands the first `src` rows of `out` to all `d` rows by linear
+/// interpolation, in place. Row `r` reads source position
+/// `r·(src−1)/(d−1) < r` (for `r > 0`), so rows are filled bottom-up
+/// without overwriting a row still to be read.
+fn stretch_rows(out: &mut [u8], w: usize, d: usize, src: usize) {
+    if src >= d {
+        return;
+    }
+    let den = d - 1;
+    // Bound: depth rows × width samples.
+    for r in (0..d).rev() {
+        let num = r * (src - 1);
+        let (r0, frac) = (num / den, num % den);
+        let r1 = (r0 + 1).min(src - 1);
+        for x in 0..w {
+            let a = out[r0 * w + x] as usize;
+            let b = out[r1 * w + x] as usize;
+            out[r * w + x] = ((a * (den - frac) + b * frac + den / 2) / den) as u8;
         }
     }
 }
@@ -46,7 +78,8 @@ impl Default for Wood {
 /// Fills `out` (`width × depth`, row-major) with a fractal disc on 0.
 ///
 /// Errors: a side below 2 or above [`super::MAX_SIDE`], a slice of the
-/// wrong length, `low = 0`, or a parameter outside its documented range.
+/// wrong length, `low = 0`, `grain` outside `1..=64`, or a parameter
+/// outside its documented range.
 pub fn wood(out: &mut [u8], width: u32, depth: u32, p: &Wood) -> Result<(), GenerateError> {
     let (w, d) = check_grid(out, width, depth, 2)?;
     let cx = check_range(p.centre[0], 0.0, 1.0, "centre[0]", "within [0, 1]")?;
@@ -58,15 +91,24 @@ pub fn wood(out: &mut [u8], width: u32, depth: u32, p: &Wood) -> Result<(), Gene
             expected: "within 1..=255",
         });
     }
+    if p.grain == 0 || p.grain > 64 {
+        return Err(GenerateError::Parameter {
+            name: "grain",
+            expected: "within 1..=64",
+        });
+    }
+    // Rows of the fractal before stretching (at least 2).
+    let src_rows = ((d - 1) / usize::from(p.grain) + 1).max(2);
     plasma(
-        out,
+        &mut out[..w * src_rows],
         width,
-        depth,
+        src_rows as u32,
         &Plasma {
             roughness: p.roughness,
             seed: p.seed,
         },
     )?;
+    stretch_rows(out, w, d, src_rows);
     let low = u32::from(p.low);
     let span = 255 - low;
     // Offsets are taken in sample units first, so samples symmetric about
