@@ -259,6 +259,37 @@ fn plasma_is_continuous_and_rougher_with_roughness() {
 }
 
 #[test]
+fn plasma_features_are_round_on_a_wide_grid() {
+    // Splits keep cells nearly square, so a 513×65 strip is as rough
+    // along z as along x (a naive both-axes split would make features 8×
+    // wider than deep).
+    let (w, d) = (513u32, 65u32);
+    let mut g = grid(w, d);
+    plasma(
+        &mut g,
+        w,
+        d,
+        &Plasma {
+            roughness: 0.6,
+            seed: 21,
+        },
+    )
+    .unwrap();
+    let (wu, du) = (w as usize, d as usize);
+    let (mut sx, mut sz, mut n) = (0u64, 0u64, 0u64);
+    for z in 0..du - 1 {
+        for x in 0..wu - 1 {
+            let i = z * wu + x;
+            sx += u64::from(g[i].abs_diff(g[i + 1]));
+            sz += u64::from(g[i].abs_diff(g[i + wu]));
+            n += 1;
+        }
+    }
+    let (mx, mz) = (sx as f64 / n as f64, sz as f64 / n as f64);
+    assert!(mz < 1.5 * mx && mx < 1.5 * mz, "x step {mx}, z step {mz}");
+}
+
+#[test]
 fn plasma_roughness_zero_is_a_smooth_blend() {
     let (w, d) = (33u32, 33u32);
     let mut g = grid(w, d);

@@ -6,8 +6,8 @@
 //! # Method
 //! The four corners of the grid get random heights. A rectangle is split
 //! at the middle of each side that is at least 2 cells long and at least
-//! half as long as the other side (so cells stay nearly square on any
-//! grid): each new edge midpoint is the mean of that edge's two ends, the
+//! two thirds as long as the other side (so cells stay nearly square on
+//! any grid): each new edge midpoint is the mean of that edge's two ends, the
 //! new centre the mean of the four corners, each plus a random
 //! displacement whose amplitude is `roughness^(k + 1)` times the
 //! corners', `k` being how many octaves shorter than the grid's longest
@@ -188,14 +188,15 @@ impl Ctx<'_> {
 
     /// Subdivides the rectangle with corners `(x0, y0)`, `(x1, y1)` whose
     /// corners are already set. A side is split when it is at least 2
-    /// cells long and at least half as long as the other side, so cells
-    /// stay nearly square on any grid and features come out round; the
+    /// cells long and at least two thirds as long as the other side, so
+    /// cells stay within 3:2 of square on any grid and features come out
+    /// round (the centre's displacement uses the longer side); the
     /// longest side halves every generation, so the recursion is at most
     /// `⌈log2(w−1)⌉ + ⌈log2(d−1)⌉ ≤ 40` calls deep.
     fn subdivide(&mut self, x0: usize, y0: usize, x1: usize, y1: usize) {
         let (lx, ly) = (x1 - x0, y1 - y0);
-        let split_x = lx >= 2 && 2 * lx >= ly;
-        let split_y = ly >= 2 && 2 * ly >= lx;
+        let split_x = lx >= 2 && 3 * lx >= 2 * ly;
+        let split_y = ly >= 2 && 3 * ly >= 2 * lx;
         if !split_x && !split_y {
             return;
         }
