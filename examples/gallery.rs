@@ -26,8 +26,6 @@
 
 #[path = "harness/mod.rs"]
 mod harness;
-#[path = "harness/terrain.rs"]
-mod terrain;
 
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
@@ -38,6 +36,7 @@ use std::time::Instant;
 use harness::images::{load_height_field, terrain_palette, write_indexed_gif, Palette, SampleData};
 use harness::png_out::PngWriter;
 use harness::scene_io::{build_fields, load_fields, parse_file_scene, read_scene_text};
+use harness::terrain;
 use hfray::generate::{
     crater, drops, fire, plasma, wood, Crater, Drops, Fire, Plasma, Wood, FIRE_PALETTE,
 };
