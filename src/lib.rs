@@ -18,6 +18,7 @@ pub mod render;
 pub mod scene;
 pub mod shading;
 pub mod shapes;
+pub mod sink;
 pub mod transform;
 pub mod traversal;
 
@@ -25,7 +26,7 @@ pub use camera::{Camera, CameraError};
 pub use glam;
 pub use heapless;
 pub use heightfield::{HeightConvention, HeightField, HeightFieldError, Samples};
-pub use pixel::{LinearRgb, Pixel, Rgb888};
+pub use pixel::{Indexed8, LinearRgb, Pixel, Rgb565, Rgb565Dithered, Rgb888, PALETTE_256};
 pub use ray::{FieldHit, Ray, Triangle};
 pub use real::Real;
 pub use render::{render, render_depth, RenderError, RenderSettings, Stats};
