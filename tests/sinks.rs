@@ -240,8 +240,8 @@ fn indexed8_flat_colour_tiles_average_to_the_colour() {
         for y in 0..8 {
             for x in 0..8 {
                 let shown = Indexed8::from_rgb888(Rgb888(c), 16 + x, 40 + y).to_rgb888();
-                for ch in 0..3 {
-                    sum[ch] += shown.0[ch] as u32;
+                for (s, v) in sum.iter_mut().zip(shown.0) {
+                    *s += v as u32;
                 }
             }
         }
@@ -293,16 +293,18 @@ fn formats_agree_with_rgb888_after_conversion() {
 #[test]
 fn dithered_formats_keep_a_flat_background_mean() {
     // No objects: every pixel is the background, a colour between levels.
-    let mut scene: Scene<'static, 4, 1> = Scene::default();
-    scene.background = Vec3::new(0.3, 0.47, 0.71);
+    let scene: Scene<'static, 4, 1> = Scene {
+        background: Vec3::new(0.3, 0.47, 0.71),
+        ..Scene::default()
+    };
     let (w, h) = (40, 24); // 5 × 3 aligned tiles
     let settings = RenderSettings::new(w, h);
     let want = Rgb888::from_linear(scene.background, 0, 0).0;
     let mean = |shown: Vec<Rgb888>| -> [f64; 3] {
         let mut s = [0.0; 3];
         for p in &shown {
-            for ch in 0..3 {
-                s[ch] += p.0[ch] as f64;
+            for (s, v) in s.iter_mut().zip(p.0) {
+                *s += v as f64;
             }
         }
         s.map(|v| v / shown.len() as f64)
@@ -352,13 +354,14 @@ fn bands_stacked_equal_the_full_image() {
             full.iter().map(|(y, _)| *y).collect::<Vec<_>>(),
             (0..h).collect::<Vec<_>>()
         );
-        for split in [
-            vec![0..h],
-            vec![0..1, 1..17, 17..40],
-            vec![0..13, 13..14, 14..40],
-        ] {
+        let splits: [&[Range<u32>]; 3] = [
+            &[0..39, 39..h],
+            &[0..1, 1..17, 17..40],
+            &[0..13, 13..14, 14..40],
+        ];
+        for split in splits {
             let mut stacked = Vec::new();
-            for band in split.clone() {
+            for band in split.iter().cloned() {
                 let settings = RenderSettings::new(w, h).with_rows(band.clone());
                 let rows = render_rows::<Indexed8, _, _>(scene, fields, &settings);
                 // Each row reports its index in the whole image.
@@ -628,8 +631,10 @@ mod embedded_graphics {
         assert_eq!((q.r(), q.g(), q.b()), (255, 128, 0));
         let d: eg::Rgb565 = Rgb565Dithered(Rgb565(0xf81f)).into();
         assert_eq!((d.r(), d.g(), d.b()), (31, 0, 31));
-        let mut scene: Scene<'static, 4, 1> = Scene::default();
-        scene.background = Vec3::new(0.2, 0.5, 0.9);
+        let scene: Scene<'static, 4, 1> = Scene {
+            background: Vec3::new(0.2, 0.5, 0.9),
+            ..Scene::default()
+        };
         let mut display = Recorder::<eg::Rgb888>::new(16, 4);
         let mut line = [Indexed8::default(); 16];
         let mut sink = DrawTargetSink::new(&mut display, Point::zero());
@@ -655,8 +660,10 @@ mod embedded_graphics {
 
     #[test]
     fn failing_draw_target_stops_the_render() {
-        let mut scene: Scene<'static, 4, 1> = Scene::default();
-        scene.background = Vec3::splat(0.5);
+        let scene: Scene<'static, 4, 1> = Scene {
+            background: Vec3::splat(0.5),
+            ..Scene::default()
+        };
         let mut display = Recorder::<eg::Rgb565>::new(32, 32);
         display.fail_at = Some(3);
         let mut line = [Rgb565::default(); 32];
