@@ -282,3 +282,8 @@ pub use render::{render, render_depth, RenderError, RenderSettings, Stats};
 pub use shading::Tracer;
 pub use transform::Transform;
 pub use traversal::Counters;
+
+/// The README's code examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
