@@ -15,8 +15,10 @@
 //! display: the render loop does not change. The defaults are the scene
 //! `examples/scenes/default.pov` at 160×128 (an ST7735 panel).
 //!
-//! The library side of this (`hfray::sink::DrawTargetSink`) is `no_std`;
-//! `.ci/run` builds it for `thumbv7em-none-eabihf`.
+//! The library side of this (`hfray::sink::DrawTargetSink`) is `no_std`.
+//! Its bare-metal twin, `examples/embedded_graphics_thumb/` (a `no_std`
+//! library crate with a concrete SPI-panel `DrawTarget` and a scene built
+//! in code), is built for `thumbv7em-none-eabihf` by `.ci/run`.
 
 #[path = "harness/mod.rs"]
 mod harness;
