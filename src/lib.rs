@@ -190,7 +190,9 @@
 //!
 //! **Shapes** ([`shapes`]). Planes, spheres, boxes, cylinders, cones and
 //! triangles, each intersected in its own object space and placed by its
-//! [`Transform`], so terrain can have water planes, skies and markers.
+//! [`Transform`], so terrain can have water planes, skies and markers
+//! (cargo feature `primitives`, on by default; a height-field-only firmware
+//! leaves it out and pays no code for them).
 //!
 //! **Shading** ([`shading`]). Whitted ray tracing with POV-Ray 3.7's
 //! finish semantics — ambient, diffuse, phong, specular, reflection,
@@ -246,6 +248,8 @@
 //!
 //! # Cargo features
 //!
+//! - `primitives` (default): the analytic shapes of [`shapes`]; without
+//!   it a scene with one is an error naming the object.
 //! - `embedded-graphics`: [`sink`]'s `DrawTargetSink` for
 //!   `embedded-graphics-core` `DrawTarget`s (no_std).
 //! - `std`: enables nothing yet (reserved for `std::error::Error` impls);
