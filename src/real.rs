@@ -29,6 +29,10 @@ pub enum Numeric {
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
+use glam::{DVec3, Vec3};
+
+use crate::transform::GridTransform;
+
 /// A number the height-field traversal can compute with.
 ///
 /// Implementations must round monotonically: `a <= b` implies
@@ -89,6 +93,22 @@ pub trait Real:
     /// scales alike. 1 for floats; fixed point uses more of its fraction
     /// bits for heights, which span only `[0, 1)` while `u`, `v` span cells.
     const Y_SCALE: f64 = 1.0;
+
+    /// Carries a world ray (origin, direction) into a field's grid space.
+    /// The default goes through `f64` and rounds once (exact enough for
+    /// any type); `f32` overrides it with the anchored `f32` map, which
+    /// keeps a Cortex-M4F (single-precision FPU) off software doubles.
+    #[inline]
+    fn to_grid(map: &GridTransform, origin: [Self; 3], dir: [Self; 3]) -> ([Self; 3], [Self; 3]) {
+        let (o, d) = map.map_f64(
+            DVec3::from_array(origin.map(Self::to_f64)),
+            DVec3::from_array(dir.map(Self::to_f64)),
+        );
+        (
+            o.to_array().map(Self::from_f64),
+            d.to_array().map(Self::from_f64),
+        )
+    }
 
     /// The smaller of two values.
     #[inline]
@@ -174,6 +194,11 @@ impl Real for f32 {
             2_097_152.0,
             1.267_650_600_228_229_4e30,
         )
+    }
+    #[inline]
+    fn to_grid(map: &GridTransform, origin: [f32; 3], dir: [f32; 3]) -> ([f32; 3], [f32; 3]) {
+        let (o, d) = map.map_f32(Vec3::from_array(origin), Vec3::from_array(dir));
+        (o.to_array(), d.to_array())
     }
 }
 
