@@ -185,7 +185,25 @@ struct Walk<'r, S> {
 enum Visit<S> {
     Hit(GridHit<S>),
     Miss,
-    Next(i32, i32, Place, S),
+    /// The cursor moved to the next cell.
+    Next,
+}
+
+/// Where the walk is: the cell, its entry parameter and place, and values
+/// the step from it needs, kept from the previous step rather than
+/// recomputed (each by the same expression on the same inputs, so the walk
+/// is bit-for-bit the one that recomputes them).
+#[derive(Clone, Copy)]
+struct Cursor<S> {
+    i: i32,
+    j: i32,
+    t_a: S,
+    /// `o_y + t_a·d_y`.
+    y_a: S,
+    /// `au.exit(i)`, `av.exit(j)`.
+    tu: S,
+    tv: S,
+    entry: Place,
 }
 
 #[inline]
@@ -198,23 +216,34 @@ fn entry_place(exit: Exit, su: i32, sv: i32) -> Place {
 }
 
 impl<S: Real> Walk<'_, S> {
-    /// Visits cell `(i, j)` entered at `t_a` through `entry`: the cull, the
-    /// cell test, and the step to the next cell.
+    /// A cursor at cell `(i, j)`, entered at `t_a` through `entry`.
+    #[inline(always)]
+    fn cursor(&self, i: i32, j: i32, t_a: S, entry: Place) -> Cursor<S> {
+        let (o, d) = (self.o, self.d);
+        Cursor {
+            i,
+            j,
+            t_a,
+            y_a: o[1] + t_a * d[1],
+            tu: self.au.exit(i, o[0]),
+            tv: self.av.exit(j, o[2]),
+            entry,
+        }
+    }
+
+    /// Visits the cursor's cell: the cull, the cell test, and the step to
+    /// the next cell (moving the cursor).
     #[inline(always)]
     fn visit(
         &self,
         field: &HeightField<'_>,
-        i: i32,
-        j: i32,
-        t_a: S,
-        entry: Place,
+        c: &mut Cursor<S>,
         counters: &mut Counters,
     ) -> Visit<S> {
         let (o, d) = (self.o, self.d);
         let (au, av) = (&self.au, &self.av);
+        let (i, j, t_a, tu, tv) = (c.i, c.j, c.t_a, c.tu, c.tv);
         counters.cells += 1;
-        let tu = au.exit(i, o[0]);
-        let tv = av.exit(j, o[2]);
         let t_far = self.t_far;
         let (t_exit, exit) = if t_far <= tu && t_far <= tv {
             (t_far, Exit::End)
@@ -230,7 +259,7 @@ impl<S: Real> Walk<'_, S> {
         let raw = field.cell_units(i as u32, j as u32);
         let c_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
         let c_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
-        let y_a = o[1] + t_a * d[1];
+        let y_a = c.y_a;
         let y_b = o[1] + t_b * d[1];
         let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
         let culled = c_max < self.water_units
@@ -251,7 +280,7 @@ impl<S: Real> Walk<'_, S> {
                 },
                 water: self.water,
             };
-            let a = cell.point(t_a, entry);
+            let a = cell.point(t_a, c.entry);
             let exit_place = match exit {
                 Exit::U => Place::EdgeU(au.step > 0),
                 Exit::V => Place::EdgeV(av.step > 0),
@@ -269,38 +298,50 @@ impl<S: Real> Walk<'_, S> {
                 });
             }
         }
-        let (ni, nj) = match exit {
+        match exit {
             Exit::End => return Visit::Miss,
-            Exit::U => (i + au.step, j),
-            Exit::V => (i, j + av.step),
-            Exit::Corner => (i + au.step, j + av.step),
-        };
-        if ni < 0 || nj < 0 || ni >= self.cells_u || nj >= self.cells_v {
+            Exit::U => {
+                c.i = i + au.step;
+                c.tu = au.exit(c.i, o[0]);
+            }
+            Exit::V => {
+                c.j = j + av.step;
+                c.tv = av.exit(c.j, o[2]);
+            }
+            Exit::Corner => {
+                c.i = i + au.step;
+                c.j = j + av.step;
+                c.tu = au.exit(c.i, o[0]);
+                c.tv = av.exit(c.j, o[2]);
+            }
+        }
+        if c.i < 0 || c.j < 0 || c.i >= self.cells_u || c.j >= self.cells_v {
             return Visit::Miss;
         }
-        Visit::Next(ni, nj, entry_place(exit, au.step, av.step), t_b)
+        c.entry = entry_place(exit, au.step, av.step);
+        c.t_a = t_b;
+        c.y_a = y_b;
+        Visit::Next
     }
 
     /// The flat walk from cell `(i, j)` at `t_a`.
     fn walk_flat(
         &self,
         field: &HeightField<'_>,
-        mut i: i32,
-        mut j: i32,
-        mut t_a: S,
+        i: i32,
+        j: i32,
+        t_a: S,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
-        let mut entry = Place::Interior;
+        let mut c = self.cursor(i, j, t_a, Place::Interior);
         // The walk moves one cell per step along u or v (both at a corner),
         // never back: it cannot take more steps than this.
         let max_steps = self.cells_u + self.cells_v + 1;
         for _ in 0..max_steps {
-            match self.visit(field, i, j, t_a, entry, counters) {
+            match self.visit(field, &mut c, counters) {
                 Visit::Hit(h) => return Some(h),
                 Visit::Miss => return None,
-                Visit::Next(ni, nj, e, t) => {
-                    (i, j, entry, t_a) = (ni, nj, e, t);
-                }
+                Visit::Next => {}
             }
         }
         None
@@ -329,16 +370,16 @@ impl<S: Real> Walk<'_, S> {
         field: &HeightField<'_>,
         skip: &SkipGrid<'_>,
         top: u8,
-        mut i: i32,
-        mut j: i32,
-        mut t_a: S,
+        i: i32,
+        j: i32,
+        t_a: S,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
+        let mut c = self.cursor(i, j, t_a, Place::Interior);
         let (o, d) = (self.o, self.d);
         let (su, sv) = (self.au.step, self.av.step);
         let log2 = skip.block_log2() as u32;
         let mult = field.units_per_sample();
-        let mut entry = Place::Interior;
         let mut open = [(u32::MAX, u32::MAX); MAX_LEVELS as usize];
         // Each pass visits a cell (at most cells_u + cells_v + 1 of them),
         // or jumps a block (which also advances at least one cell), or marks
@@ -346,9 +387,7 @@ impl<S: Real> Walk<'_, S> {
         let max_passes = (self.cells_u + self.cells_v + 1) as u64 * (top as u64 + 1) + 1;
         'pass: for _ in 0..max_passes {
             let mut level = top;
-            // y at the walk's current parameter, shared by the block tests
-            // of this pass (the same expression as the cell test's).
-            let y_a = o[1] + t_a * d[1];
+            let (i, j, t_a, y_a) = (c.i, c.j, c.t_a, c.y_a);
             while level >= 1 {
                 let shift = log2 * level as u32;
                 let (bi, bj) = ((i as u32) >> shift, (j as u32) >> shift);
@@ -386,21 +425,17 @@ impl<S: Real> Walk<'_, S> {
                         if ni < 0 || nj < 0 || ni >= self.cells_u || nj >= self.cells_v {
                             return None;
                         }
-                        (i, j) = (ni, nj);
-                        entry = entry_place(exit, su, sv);
-                        t_a = t_block.max(t_a);
+                        c = self.cursor(ni, nj, t_block.max(t_a), entry_place(exit, su, sv));
                         continue 'pass;
                     }
                     open[level as usize - 1] = (bi, bj);
                 }
                 level -= 1;
             }
-            match self.visit(field, i, j, t_a, entry, counters) {
+            match self.visit(field, &mut c, counters) {
                 Visit::Hit(h) => return Some(h),
                 Visit::Miss => return None,
-                Visit::Next(ni, nj, e, t) => {
-                    (i, j, entry, t_a) = (ni, nj, e, t);
-                }
+                Visit::Next => {}
             }
         }
         None
