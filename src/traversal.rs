@@ -20,6 +20,17 @@
 //!   two side cells in a single point, which the shared vertex covers).
 //! - The loop runs at most `(width − 1) + (depth − 1)` times, whatever the
 //!   input; non-finite input is a miss, not a hang.
+//!
+//! With a skip grid ([`crate::skip`]) the same walk jumps over whole
+//! blocks ([`Traversal`]): a block is skipped only when the cell cull would
+//! have culled each of its cells, and the jump lands on the cell, entry and
+//! `t` the cell-by-cell walk reaches (`block_exit`, unit-checked against the
+//! step rule on sequences full of ties), so every mode returns the same
+//! bits. The jump needs one axis whose boundary parameters are strictly
+//! monotone ([`Real::strict_boundaries`], checked once per ray); rays where
+//! rounding makes neighbouring grid lines coincide on both axes (origins
+//! millions of cells away in `f32`) walk cell by cell. The skip walk's
+//! passes are bounded by `(cells + 1) × (levels + 1)`.
 
 use crate::cell::{Cell, Corners, Place};
 use crate::heightfield::HeightField;
