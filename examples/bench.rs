@@ -215,82 +215,24 @@ fn section_a(runs: usize) {
     }
 }
 
+/// (b) runs in its own crate (examples/bench_parry: parry3d brings its own
+/// glam and heapless, kept out of hfray's lock file), built and run here.
 fn section_b(runs: usize) {
-    use parry3d::math::Vector as PVec;
-    use parry3d::query::{Ray as PRay, RayCast};
-    use parry3d::shape::HeightField as PField;
-    use parry3d::utils::Array2;
-
-    println!(
-        "\n(b) primary rays only, 512² fractal, {W}x{H} rays, hfray vs parry3d 0.31 HeightField"
-    );
-    let n = 512u32;
-    let data = fractal(n, 7);
-    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
-        .unwrap()
-        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
-    // parry: heights (row i along z, column j along x), column-major; vertex
-    // (i, j) at (-0.5 + j/(n-1), h, -0.5 + i/(n-1)) times `scale`; its
-    // default cell split is (x0,z0),(x0,z1),(x1,z0) + the other half, the
-    // same diagonal as POV-Ray's. So our object space is parry's shifted by
-    // (0.5, 0, 0.5), with the same (1, 0.3, 1) scale.
-    let mut col_major = Vec::with_capacity((n * n) as usize);
-    for x in 0..n {
-        for z in 0..n {
-            col_major.push(field.height(x, z));
-        }
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/bench_parry/Cargo.toml");
+    let out = Command::new(env!("CARGO"))
+        .args(["run", "--release", "--quiet", "--manifest-path"])
+        .arg(&manifest)
+        .arg("--")
+        .arg(runs.to_string())
+        .output();
+    match out {
+        Ok(o) if o.status.success() => print!("{}", String::from_utf8_lossy(&o.stdout)),
+        Ok(o) => println!(
+            "\n(b) parry3d comparison failed:\n{}",
+            String::from_utf8_lossy(&o.stderr)
+        ),
+        Err(e) => println!("\n(b) parry3d comparison not run: {e}"),
     }
-    let pf = PField::new(
-        Array2::new(n as usize, n as usize, col_major),
-        PVec::new(1.0, 0.3, 1.0),
-    );
-    let rays = primary_rays();
-    let shift = Vec3::new(0.5, 0.0, 0.5);
-    let prays: Vec<PRay> = rays
-        .iter()
-        .map(|r| {
-            let o = r.origin - shift;
-            PRay::new(
-                PVec::new(o.x, o.y, o.z),
-                PVec::new(r.direction.x, r.direction.y, r.direction.z),
-            )
-        })
-        .collect();
-    let buf = skip_buffer(&field, SkipLayout::pyramid(n, n, 3));
-    let ours = with_grid(&field, &buf, Traversal::Hierarchy);
-    // Agreement on the sample.
-    let (mut both, mut only_ours, mut only_parry, mut max_dt) = (0u32, 0u32, 0u32, 0f32);
-    for (r, pr) in rays.iter().zip(&prays) {
-        let a = ours.intersect(r, 0.0, f32::INFINITY);
-        let b = pf.cast_local_ray(pr, f32::MAX, true);
-        match (a, b) {
-            (Some(a), Some(b)) => {
-                both += 1;
-                max_dt = max_dt.max((a.t - b).abs());
-            }
-            (Some(_), None) => only_ours += 1,
-            (None, Some(_)) => only_parry += 1,
-            _ => {}
-        }
-    }
-    println!(
-        "  agreement: both hit {both}, only hfray {only_ours}, only parry {only_parry}, max |Δt| {max_dt:.2e} (field is 1 unit wide)"
-    );
-    let (ours_rate, _, _) = primary(&ours, &rays, runs);
-    let mut hits = 0;
-    let psecs = median_secs(runs.min(3), || {
-        hits = 0;
-        for pr in &prays {
-            hits += pf.cast_local_ray(pr, f32::MAX, true).is_some() as u32;
-        }
-    });
-    let parry_rate = prays.len() as f64 / psecs;
-    println!("  hfray pyramid f32   {:>8.3} Mrays/s", ours_rate / 1e6);
-    println!("  parry3d HeightField {:>8.3} Mrays/s", parry_rate / 1e6);
-    println!(
-        "  hfray / parry3d = {:.1}x (target >= 20x)",
-        ours_rate / parry_rate
-    );
 }
 
 fn section_c(runs: usize) {
