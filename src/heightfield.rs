@@ -457,6 +457,8 @@ impl<'a> HeightField<'a> {
                 let hit = self.intersect_in::<f32>(o, d, t_min, t_max, counters)?;
                 Some(self.finish_hit(ray, &hit))
             }
+            #[cfg(feature = "f64-walk")]
+            #[cfg(feature = "f64-walk")]
             Numeric::F64 => self.intersect_as::<f64>(ray, t_min, t_max, false, counters),
             #[cfg(feature = "fixed")]
             Numeric::Q16 => {
@@ -587,6 +589,7 @@ impl<'a> HeightField<'a> {
                 let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
                 traversal::nearest(self, &g, t_min, t_max, true, counters).is_some()
             }
+            #[cfg(feature = "f64-walk")]
             Numeric::F64 => self
                 .intersect_as::<f64>(ray, t_min, t_max, true, counters)
                 .is_some(),

@@ -14,7 +14,9 @@ pub enum Numeric {
     /// `f32` (fast with an FPU; the default).
     #[default]
     F32,
-    /// `f64` (the reference).
+    /// `f64` (the reference). With the `f64-walk` feature (on by default;
+    /// a firmware build that leaves it out saves the f64 walk's code).
+    #[cfg(feature = "f64-walk")]
     F64,
     /// [`Q16`]: Q15.16 fixed point in an `i32` (FPU-less chips: one
     /// 32×32→64 multiply per product).
