@@ -5,7 +5,7 @@
 //! crosses with a DDA that visits *every* crossed cell, in order, carrying
 //! the ray's height at cell entry and exit; skip a cell when the ray is
 //! above its highest corner (or below its lowest, or below the water
-//! level); otherwise run the cell test ([`crate::cell`]); the first hit of
+//! level); otherwise run the cell test (`crate::cell`); the first hit of
 //! the walk is the nearest.
 //!
 //! Robustness, where published DDAs break:
@@ -202,7 +202,9 @@ pub(crate) fn nearest<S: Real>(
     // The height slab is widened so that the ray enters and leaves it
     // strictly above and below the surface: clipped exactly at a flat
     // field's height, a rounded `y(t)` could land on either side and the
-    // crossing there would be lost. Cells entered early are culled cheaply.
+    // crossing there would be lost (regression tests
+    // `flat_field_rays_hit_everywhere`, `all_255_field_tops_out_at_255_over_256`).
+    // Cells entered early are culled cheaply.
     let margin = S::from_f32(1.0 / 64.0) + o[1].abs() * S::EPSILON * S::from_i32(16);
     let y_lo = S::from_height_units(min_units).max(water) - margin;
     let y_hi = S::from_height_units(max_units) + margin;

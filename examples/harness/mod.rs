@@ -22,4 +22,5 @@ pub mod alloc_count;
 pub mod images;
 pub mod pfm;
 pub mod png_out;
+pub mod scene_io;
 pub mod tga;

@@ -1,0 +1,101 @@
+//! Scene files from disk: parse a `.pov` file and load the height-field
+//! images it names (relative to the scene file's folder), then build one
+//! [`HeightField`] per `field_index`, placed by its object.
+//!
+//! Ownership is split in three steps because the scene borrows its text and
+//! the fields borrow their samples: the caller keeps the text, the parsed
+//! [`Scene`] and the [`LoadedField`]s alive, in that order.
+
+use std::path::{Path, PathBuf};
+
+use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
+use hfray::HeightField;
+
+use super::images::{load_height_field, LoadedField};
+
+/// Objects and lights a scene file may hold in the harness.
+pub const OBJECTS: usize = 64;
+/// Light sources a scene file may hold in the harness.
+pub const LIGHTS: usize = 16;
+
+/// A scene parsed by the harness.
+pub type FileScene<'src> = Scene<'src, OBJECTS, LIGHTS>;
+
+/// Reads a scene file's text; the error names the file.
+pub fn read_scene_text(path: &Path) -> Result<String, String> {
+    std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Parses `text` (read from `path`); warnings go to `warn` already
+/// formatted as `FILE:LINE:COL: message`, errors come back formatted so.
+pub fn parse_file_scene<'src>(
+    path: &Path,
+    text: &'src str,
+    options: &ParseOptions,
+    warn: &mut dyn FnMut(String),
+) -> Result<FileScene<'src>, String> {
+    let shown = path.display().to_string();
+    parse_scene(text, options, &mut |d| warn(format!("{shown}:{d}")))
+        .map_err(|d| format!("{shown}:{d}"))
+}
+
+/// Loads every height-field image the scene names, in `field_index` order,
+/// resolving paths against the scene file's folder.
+pub fn load_fields(scene: &FileScene<'_>, scene_path: &Path) -> Result<Vec<LoadedField>, String> {
+    let dir = scene_path.parent().unwrap_or(Path::new("."));
+    let mut named: Vec<_> = scene.height_fields().collect();
+    named.sort_by_key(|(index, _, _)| *index);
+    named
+        .into_iter()
+        .map(|(_, format, file)| {
+            let resolved: PathBuf = dir.join(file);
+            load_height_field(&resolved, format).map_err(|e| e.to_string())
+        })
+        .collect()
+}
+
+/// One [`HeightField`] per loaded image, carrying its object's transform,
+/// water level and (for palette colouring) palette.
+pub fn build_fields<'d>(
+    scene: &FileScene<'_>,
+    loaded: &'d [LoadedField],
+) -> Result<Vec<HeightField<'d>>, String> {
+    let mut fields: Vec<Option<HeightField<'d>>> = vec![None; loaded.len()];
+    for object in &scene.objects {
+        let Shape::HeightField {
+            path,
+            water_level,
+            palette_colors,
+            field_index,
+            ..
+        } = object.shape
+        else {
+            continue;
+        };
+        let data = loaded
+            .get(field_index)
+            .ok_or_else(|| format!("{path}: height field {field_index} was not loaded"))?;
+        let samples = data.samples();
+        let mut field = HeightField::new(samples, data.width(), data.depth(), data.convention())
+            .map_err(|e| format!("{path}: {e}"))?
+            .with_water_level(water_level)
+            .map_err(|e| format!("{path}: {e}"))?
+            .with_transform(object.transform);
+        if palette_colors {
+            match data.palette() {
+                Some(palette) => field = field.with_palette(palette),
+                None => {
+                    return Err(format!(
+                        "{path}: image_map (palette colouring) needs an indexed image (GIF or palette PNG)"
+                    ))
+                }
+            }
+        }
+        fields[field_index] = Some(field);
+    }
+    fields
+        .into_iter()
+        .enumerate()
+        .map(|(i, f)| f.ok_or_else(|| format!("height field {i} has no object")))
+        .collect()
+}

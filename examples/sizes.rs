@@ -1,0 +1,46 @@
+//! Prints the size in bytes of what the core holds, for memory-budget.md:
+//! `cargo run --release --example sizes`.
+
+use hfray::camera::Camera;
+use hfray::render::{RenderSettings, Stats};
+use hfray::scene::{Object, Scene};
+use hfray::shading::Tracer;
+use hfray::traversal::{Counters, GridHit, GridRay};
+use hfray::{FieldHit, HeightField, Ray, Transform};
+
+fn main() {
+    let rows: [(&str, usize); 14] = [
+        (
+            "HeightField (per field; samples are borrowed)",
+            size_of::<HeightField<'static>>(),
+        ),
+        ("Transform (f64 matrix and inverse)", size_of::<Transform>()),
+        ("Ray", size_of::<Ray>()),
+        (
+            "GridRay<f32> (per ray, in the walk)",
+            size_of::<GridRay<f32>>(),
+        ),
+        ("GridHit<f32>", size_of::<GridHit<f32>>()),
+        ("FieldHit", size_of::<FieldHit>()),
+        ("Counters", size_of::<Counters>()),
+        ("Camera", size_of::<Camera>()),
+        ("RenderSettings", size_of::<RenderSettings>()),
+        ("Stats", size_of::<Stats>()),
+        (
+            "Object (scene model, per object)",
+            size_of::<Object<'static>>(),
+        ),
+        ("Scene<'_, 4, 1>", size_of::<Scene<'static, 4, 1>>()),
+        (
+            "Scene<'_, 32, 8> (default capacities)",
+            size_of::<Scene<'static, 32, 8>>(),
+        ),
+        (
+            "Tracer<32> (prepared objects, on the stack while rendering)",
+            size_of::<Tracer<'static, 32>>(),
+        ),
+    ];
+    for (name, bytes) in rows {
+        println!("{bytes:>7}  {name}");
+    }
+}

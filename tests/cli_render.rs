@@ -1,0 +1,208 @@
+//! The `render` command as a user meets it: exit codes, error messages with
+//! their location, outputs of every kind, and no partial file on failure.
+//!
+//! `cargo test` builds the examples before running the tests, so the binary
+//! is next to this test's own: `target/<profile>/examples/render`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn render_bin() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let dir = exe.parent().unwrap().parent().unwrap();
+    let bin = dir
+        .join("examples")
+        .join(format!("render{}", std::env::consts::EXE_SUFFIX));
+    assert!(bin.exists(), "{} not built", bin.display());
+    bin
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(render_bin())
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("hfray-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn no_partial_files(dir: &Path) {
+    let left: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert!(left.is_empty(), "files left behind: {left:?}");
+}
+
+#[test]
+fn default_scene_renders_to_tga_png_and_depth_pfm() {
+    let dir = temp_dir("ok");
+    for (name, extra) in [
+        ("a.tga", &[][..]),
+        ("a.png", &[][..]),
+        ("a.pfm", &["--aov", "depth"][..]),
+    ] {
+        let out = dir.join(name);
+        let mut args = vec![
+            "examples/scenes/default.pov",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "64",
+            "--height",
+            "40",
+            "--stats",
+        ];
+        args.extend_from_slice(extra);
+        let o = run(&args);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let bytes = std::fs::read(&out).unwrap();
+        match name {
+            "a.tga" => assert_eq!(bytes.len(), 18 + 64 * 40 * 3),
+            "a.png" => assert_eq!(&bytes[1..4], b"PNG"),
+            _ => assert!(bytes.starts_with(b"Pf\n64 40\n-1.0\n")),
+        }
+        let s = stderr(&o);
+        let line = s
+            .lines()
+            .find(|l| l.starts_with("stats: "))
+            .expect("a stats line");
+        for key in [
+            "width=64",
+            "height=40",
+            "rays=",
+            "primary=2560",
+            "shadow=",
+            "reflected=",
+            "cells=",
+            "tri_tests=",
+            "hits=",
+            "parse_seconds=",
+            "trace_seconds=",
+            "heap_peak_bytes=",
+        ] {
+            assert!(line.contains(key), "{key} missing in {line}");
+        }
+    }
+}
+
+#[test]
+fn scene_syntax_error_exits_1_with_file_line_col_and_no_output() {
+    let dir = temp_dir("syntax");
+    let scene = dir.join("bad.pov");
+    std::fs::write(
+        &scene,
+        "camera { location <0, 1, -3> look_at <0, 0, 0> }\nsphere { <0,0,0>, }\n",
+    )
+    .unwrap();
+    let out = dir.join("out.tga");
+    let o = run(&[scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let s = stderr(&o);
+    let expected = format!("error: {}:2:", scene.display());
+    assert!(s.starts_with(&expected), "{s}");
+    std::fs::remove_file(&scene).unwrap();
+    no_partial_files(&dir);
+}
+
+#[test]
+fn missing_height_field_image_is_named_in_the_error() {
+    let dir = temp_dir("missing");
+    let scene = dir.join("s.pov");
+    std::fs::write(
+        &scene,
+        "camera { location <0.5, 2, -1> look_at <0.5, 0, 0.5> }\nheight_field { gif \"nowhere.gif\" }\n",
+    )
+    .unwrap();
+    let out = dir.join("out.tga");
+    let o = run(&[scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("nowhere.gif"), "{}", stderr(&o));
+    std::fs::remove_file(&scene).unwrap();
+    no_partial_files(&dir);
+}
+
+#[test]
+fn bad_arguments_exit_1_with_a_message() {
+    for (args, needle) in [
+        (&["examples/scenes/default.pov"][..], "no output file"),
+        (&["-o", "x.tga"][..], "no scene file"),
+        (
+            &["examples/scenes/default.pov", "-o", "x.bmp"][..],
+            "unknown output type",
+        ),
+        (
+            &["examples/scenes/default.pov", "-o", "x.tga", "--width", "0"][..],
+            "--width",
+        ),
+        (
+            &["examples/scenes/default.pov", "-o", "x.tga", "--aa", "99"][..],
+            "--aa",
+        ),
+        (
+            &[
+                "examples/scenes/default.pov",
+                "-o",
+                "x.tga",
+                "--rows",
+                "5..2",
+            ][..],
+            "--rows",
+        ),
+        (
+            &["examples/scenes/default.pov", "-o", "x.tga", "--frobnicate"][..],
+            "unknown option",
+        ),
+        (
+            &["no/such/scene.pov", "-o", "x.tga"][..],
+            "no/such/scene.pov",
+        ),
+    ] {
+        let o = run(args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        let s = stderr(&o);
+        assert!(
+            s.starts_with("error: ") && s.contains(needle),
+            "{args:?}: {s}"
+        );
+    }
+}
+
+#[test]
+fn threads_and_bands_give_the_same_bytes() {
+    let dir = temp_dir("threads");
+    let one = dir.join("one.tga");
+    let three = dir.join("three.tga");
+    let common = [
+        "examples/scenes/thesis.pov",
+        "--width",
+        "80",
+        "--height",
+        "50",
+    ];
+    let mut a = common.to_vec();
+    a.extend(["-o", one.to_str().unwrap()]);
+    assert!(run(&a).status.success());
+    let mut b = common.to_vec();
+    b.extend(["-o", three.to_str().unwrap(), "--threads", "3"]);
+    assert!(run(&b).status.success());
+    let whole = std::fs::read(&one).unwrap();
+    assert_eq!(whole, std::fs::read(&three).unwrap());
+    // Rows 20..50 on their own are the same rows of the whole image.
+    let band = dir.join("band.tga");
+    let mut c = common.to_vec();
+    c.extend(["-o", band.to_str().unwrap(), "--rows", "20..50"]);
+    assert!(run(&c).status.success());
+    let band = std::fs::read(&band).unwrap();
+    assert_eq!(&band[18..], &whole[18 + 20 * 80 * 3..]);
+}
