@@ -141,7 +141,8 @@ fn ray_spec() -> impl Strategy<Value = RaySpec> {
             DVec3::splat(0.5) + DVec3::new(x, y, z).normalize_or(DVec3::Y) * r
         }),
     ];
-    let target = (0.0f64..=1.0, -0.1f64..1.1, 0.0f64..=1.0).prop_map(|(x, y, z)| DVec3::new(x, y, z));
+    let target =
+        (0.0f64..=1.0, -0.1f64..1.1, 0.0f64..=1.0).prop_map(|(x, y, z)| DVec3::new(x, y, z));
     let range = prop_oneof![
         4 => Just(None),
         1 => (0.0f32..1.0, 0.0f32..2.0).prop_map(|(a, l)| Some((a, a + l))),
@@ -213,7 +214,9 @@ fn agrees<S: Real>(
         (Some(a), Some(b)) => {
             let same = a.cell_x == b.cell_x && a.cell_z == b.cell_z && a.triangle == b.triangle;
             let dl = d.length() as f64;
-            let scale = (o.length() as f64).max(b.point.length()).max(b.t.abs() * dl);
+            let scale = (o.length() as f64)
+                .max(b.point.length())
+                .max(b.t.abs() * dl);
             let rel_normal = (a.t.to_f64() - b.t).abs() * dl / scale * b.cos;
             if same && rel_normal <= t_tol {
                 Ok(false)
@@ -272,11 +275,7 @@ fn oracle_property<S: Real>(cases: u32, eps: f64, t_tol: f64, seed: u8) -> Tally
                     t.rays += 1;
                     t.ambiguous += u64::from(ambiguous);
                     let (o, d, t_min, t_max) = ray;
-                    t.hits += u64::from(
-                        field
-                            .intersect(&Ray::new(o, d), t_min, t_max)
-                            .is_some(),
-                    );
+                    t.hits += u64::from(field.intersect(&Ray::new(o, d), t_min, t_max).is_some());
                 }
             }
         }
