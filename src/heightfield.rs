@@ -227,10 +227,38 @@ impl<'a> HeightField<'a> {
     }
 
     /// The same field placed in the world by `transform`.
+    ///
+    /// A [`Transform`] built by its constructors is finite and invertible,
+    /// but one composed with [`Transform::then`] can overflow or become
+    /// singular (`scale 1e200` twice); a field placed so is never hit.
+    /// [`try_with_transform`](Self::try_with_transform) reports that
+    /// instead.
     pub fn with_transform(mut self, transform: Transform) -> Self {
         self.transform = transform;
         self.update_grid_transform();
         self
+    }
+
+    /// [`with_transform`](Self::with_transform), checked: the transform,
+    /// its inverse, the world-to-grid map and the normal map must all be
+    /// finite, and the transform must stay finite in `f32` (renderers use
+    /// `f32` copies); otherwise [`HeightFieldError::Transform`].
+    pub fn try_with_transform(self, transform: Transform) -> Result<Self, HeightFieldError> {
+        let det = transform.to_world().matrix3.determinant();
+        if !(transform.to_world().is_finite()
+            && transform.to_object().is_finite()
+            && det.is_finite()
+            && det != 0.0
+            && transform.to_world_f32().is_finite()
+            && transform.to_object_f32().is_finite())
+        {
+            return Err(HeightFieldError::Transform);
+        }
+        let field = self.with_transform(transform);
+        if !(field.world_to_grid64.is_finite() && field.normal_matrix.is_finite()) {
+            return Err(HeightFieldError::Transform);
+        }
+        Ok(field)
     }
 
     fn update_grid_transform(&mut self) {
