@@ -10,6 +10,7 @@
 
 pub mod camera;
 mod cell;
+pub mod generate;
 pub mod heightfield;
 pub mod pixel;
 pub mod ray;

@@ -8,6 +8,10 @@
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
+use glam::{DVec3, Vec3};
+
+use crate::transform::GridTransform;
+
 /// A number the height-field traversal can compute with.
 ///
 /// Implementations must round monotonically: `a <= b` implies
@@ -48,6 +52,22 @@ pub trait Real:
     /// `units / 65536`: a height in the units the field stores. Exact for
     /// every implementation (heights are multiples of 2^-16 below 1).
     fn from_height_units(units: u32) -> Self;
+
+    /// Carries a world ray (origin, direction) into a field's grid space.
+    /// The default goes through `f64` and rounds once (exact enough for
+    /// any type); `f32` overrides it with the anchored `f32` map, which
+    /// keeps a Cortex-M4F (single-precision FPU) off software doubles.
+    #[inline]
+    fn to_grid(map: &GridTransform, origin: [Self; 3], dir: [Self; 3]) -> ([Self; 3], [Self; 3]) {
+        let (o, d) = map.map_f64(
+            DVec3::from_array(origin.map(Self::to_f64)),
+            DVec3::from_array(dir.map(Self::to_f64)),
+        );
+        (
+            o.to_array().map(Self::from_f64),
+            d.to_array().map(Self::from_f64),
+        )
+    }
 
     /// The smaller of two values.
     #[inline]
@@ -114,6 +134,11 @@ impl Real for f32 {
     #[inline]
     fn from_height_units(units: u32) -> Self {
         units as f32 * (1.0 / 65536.0)
+    }
+    #[inline]
+    fn to_grid(map: &GridTransform, origin: [f32; 3], dir: [f32; 3]) -> ([f32; 3], [f32; 3]) {
+        let (o, d) = map.map_f32(Vec3::from_array(origin), Vec3::from_array(dir));
+        (o.to_array(), d.to_array())
     }
 }
 

@@ -6,7 +6,7 @@
 //! when a scene is built, so chains of transforms do not accumulate `f32`
 //! error; renderers take `f32` copies with [`Transform::to_world_f32`].
 
-use glam::{Affine3A, DAffine3, DMat3, DVec3, Vec3};
+use glam::{Affine3A, DAffine3, DMat3, DVec3, Mat3, Vec3};
 
 /// Why a transform was rejected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -128,6 +128,66 @@ impl Transform {
     pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
         let m = self.to_object.matrix3.transpose();
         (m * n.as_dvec3()).as_vec3().normalize_or_zero()
+    }
+}
+
+/// A world-to-grid map kept in two precisions, so each numeric path can
+/// carry rays into a height field's grid space with the accuracy it can
+/// afford (see [`Real::to_grid`](crate::Real::to_grid)).
+///
+/// The `f32` form is anchored at the field's centre: `M·(p − c) + g` with
+/// `c` the centre in world space and `g` its exact grid coordinates. The
+/// plain `M·p + t` cancels catastrophically when the field sits far from
+/// the world origin; the anchored form's error scales with the distance
+/// from the field instead, which the ray's own `f32` origin already has.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridTransform {
+    /// The exact map, `f64`.
+    pub exact: DAffine3,
+    /// `c`: the anchor (the field's centre), world space, `f32`.
+    pub anchor: Vec3,
+    /// `g`: the anchor's grid coordinates, computed in `f64`, rounded once.
+    pub anchor_grid: Vec3,
+    /// `M` rounded to `f32`.
+    pub linear: Mat3,
+}
+
+impl GridTransform {
+    /// The identity map.
+    pub const IDENTITY: GridTransform = GridTransform {
+        exact: DAffine3::IDENTITY,
+        anchor: Vec3::ZERO,
+        anchor_grid: Vec3::ZERO,
+        linear: Mat3::IDENTITY,
+    };
+
+    /// The map `exact`, anchored at world point `centre`.
+    pub fn new(exact: DAffine3, centre: DVec3) -> Self {
+        let anchor = centre.as_vec3();
+        GridTransform {
+            exact,
+            anchor,
+            anchor_grid: exact.transform_point3(anchor.as_dvec3()).as_vec3(),
+            linear: exact.matrix3.as_mat3(),
+        }
+    }
+
+    /// A point and a direction carried in `f32`, anchored.
+    #[inline]
+    pub fn map_f32(&self, point: Vec3, dir: Vec3) -> (Vec3, Vec3) {
+        (
+            self.linear * (point - self.anchor) + self.anchor_grid,
+            self.linear * dir,
+        )
+    }
+
+    /// A point and a direction carried exactly enough, in `f64`.
+    #[inline]
+    pub fn map_f64(&self, point: DVec3, dir: DVec3) -> (DVec3, DVec3) {
+        (
+            self.exact.transform_point3(point),
+            self.exact.transform_vector3(dir),
+        )
     }
 }
 

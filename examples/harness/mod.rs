@@ -23,4 +23,5 @@ pub mod images;
 pub mod pfm;
 pub mod png_out;
 pub mod scene_io;
+pub mod terrain;
 pub mod tga;

@@ -57,6 +57,9 @@ pub enum ShapeError {
     Cone,
     /// `triangle`: a non-finite vertex.
     Triangle,
+    /// An analytic primitive in a build without the `primitives` feature
+    /// (a firmware build that renders height fields only).
+    NotBuilt,
 }
 
 impl core::fmt::Display for ShapeError {
@@ -72,6 +75,9 @@ impl core::fmt::Display for ShapeError {
                 "cone: base and cap must differ, radii must be >= 0 and not both 0, all finite"
             }
             ShapeError::Triangle => "triangle: the vertices must be finite",
+            ShapeError::NotBuilt => {
+                "only height fields are built in: enable hfray's `primitives` feature"
+            }
         })
     }
 }
@@ -131,16 +137,22 @@ impl Nearest {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Primitive {
     /// `plane`.
+    #[cfg(feature = "primitives")]
     Plane(Plane),
     /// `sphere`.
+    #[cfg(feature = "primitives")]
     Sphere(Sphere),
     /// `box`.
+    #[cfg(feature = "primitives")]
     Box(Aabb),
     /// `cylinder`.
+    #[cfg(feature = "primitives")]
     Cylinder(Cylinder),
     /// `cone`.
+    #[cfg(feature = "primitives")]
     Cone(Cone),
     /// `triangle`.
+    #[cfg(feature = "primitives")]
     Triangle(Triangle),
     /// `height_field`: the caller's `fields[field_index]`.
     HeightField {
@@ -154,13 +166,17 @@ impl Primitive {
     pub fn from_shape(shape: &Shape<'_>) -> Result<Primitive, ShapeError> {
         Ok(match *shape {
             Shape::HeightField { field_index, .. } => Primitive::HeightField { field_index },
+            #[cfg(feature = "primitives")]
             Shape::Plane { normal, distance } => {
                 Primitive::Plane(Plane::new(normal, distance).ok_or(ShapeError::Plane)?)
             }
+            #[cfg(feature = "primitives")]
             Shape::Sphere { center, radius } => {
                 Primitive::Sphere(Sphere::new(center, radius).ok_or(ShapeError::Sphere)?)
             }
+            #[cfg(feature = "primitives")]
             Shape::Box { min, max } => Primitive::Box(Aabb::new(min, max).ok_or(ShapeError::Box)?),
+            #[cfg(feature = "primitives")]
             Shape::Cylinder {
                 base,
                 cap,
@@ -169,6 +185,7 @@ impl Primitive {
             } => Primitive::Cylinder(
                 Cylinder::new(base, cap, radius, open).ok_or(ShapeError::Cylinder)?,
             ),
+            #[cfg(feature = "primitives")]
             Shape::Cone {
                 base,
                 base_radius,
@@ -178,15 +195,19 @@ impl Primitive {
             } => Primitive::Cone(
                 Cone::new(base, base_radius, cap, cap_radius, open).ok_or(ShapeError::Cone)?,
             ),
+            #[cfg(feature = "primitives")]
             Shape::Triangle { vertices } => {
                 Primitive::Triangle(Triangle::new(vertices).ok_or(ShapeError::Triangle)?)
             }
+            #[cfg(not(feature = "primitives"))]
+            _ => return Err(ShapeError::NotBuilt),
         })
     }
 
     /// Object-space intersection of an analytic primitive (`None` for a
     /// height field, which is intersected in the world by its own walk).
     #[inline]
+    #[cfg_attr(not(feature = "primitives"), allow(unused_variables))]
     pub fn intersect(
         &self,
         origin: Vec3,
@@ -195,11 +216,17 @@ impl Primitive {
         t_max: f32,
     ) -> Option<(f32, Vec3)> {
         match self {
+            #[cfg(feature = "primitives")]
             Primitive::Plane(p) => p.intersect(origin, dir, t_min, t_max),
+            #[cfg(feature = "primitives")]
             Primitive::Sphere(s) => s.intersect(origin, dir, t_min, t_max),
+            #[cfg(feature = "primitives")]
             Primitive::Box(b) => b.intersect(origin, dir, t_min, t_max),
+            #[cfg(feature = "primitives")]
             Primitive::Cylinder(c) => c.intersect(origin, dir, t_min, t_max),
+            #[cfg(feature = "primitives")]
             Primitive::Cone(c) => c.intersect(origin, dir, t_min, t_max),
+            #[cfg(feature = "primitives")]
             Primitive::Triangle(t) => t.intersect(origin, dir, t_min, t_max),
             Primitive::HeightField { .. } => None,
         }
@@ -276,6 +303,8 @@ impl Placed {
     /// The nearest hit with `t` in `[t_min, t_max]`, normal still in object
     /// space. `fields` supplies height fields (a missing index misses).
     #[inline]
+    // Without `primitives`, every object is a height field.
+    #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
     pub fn intersect_local(
         &self,
         ray: &Ray,
@@ -306,6 +335,7 @@ impl Placed {
     /// `true` if anything of this object lies on the ray within
     /// `[t_min, t_max]`.
     #[inline]
+    #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
     pub fn occludes(
         &self,
         ray: &Ray,

@@ -1,0 +1,24 @@
+//! Picks the board's memory map from the target and puts it where
+//! cortex-m-rt's `link.x` looks for `memory.x`.
+use std::{env, fs, path::PathBuf};
+
+fn main() {
+    let target = env::var("TARGET").unwrap_or_default();
+    let board = if target.starts_with("thumbv6m") {
+        "microbit"
+    } else if target.starts_with("thumbv7em") {
+        "mps2-an386"
+    } else {
+        // Not a Cortex-M target (e.g. `cargo check` on the host): nothing to link.
+        println!("cargo:rustc-env=HFRAY_BOARD=none");
+        return;
+    };
+    println!("cargo:rustc-env=HFRAY_BOARD={board}");
+    let memory = format!("memory-{board}.x");
+    let out = PathBuf::from(env::var("OUT_DIR").unwrap());
+    fs::copy(&memory, out.join("memory.x")).unwrap();
+    println!("cargo:rustc-link-search={}", out.display());
+    println!("cargo:rerun-if-changed=memory-microbit.x");
+    println!("cargo:rerun-if-changed=memory-mps2-an386.x");
+    println!("cargo:rerun-if-changed=build.rs");
+}

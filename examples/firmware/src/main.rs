@@ -1,0 +1,249 @@
+//! hfray on bare metal: a cortex-m-rt application that renders the scene of
+//! `scene.rs` (Maunga Whau, 96 × 64, one light, shadows) with
+//! `hfray::render` from a height field held in flash, streams every scanline
+//! to the host through semihosting, and reports the frame checksum and the
+//! stack high-water mark.
+//!
+//! No `std`, no allocator, no frame buffer: the only frame-sized state is one
+//! scanline (96 `Rgb888` pixels plus their 288 bytes) on the stack.
+//!
+//! Boards (chosen by target in `build.rs`):
+//! - `thumbv6m-none-eabi`: BBC micro:bit (`qemu-system-arm -machine microbit`),
+//!   Cortex-M0, 16 KiB RAM, software floating point.
+//! - `thumbv7em-none-eabihf`: ARM MPS2-AN386 (`-machine mps2-an386`),
+//!   Cortex-M4F with single-precision FPU.
+//!
+//! Output: the frame as a binary PPM in the host file `frame-BOARD.ppm`
+//! (QEMU's working directory), and one line on the host's stdout:
+//! `board=B frame_checksum=HEX stack_bytes=N render_stack_bytes=N stack_limit_bytes=N hits=N ...`.
+//! Exits QEMU through semihosting (`SYS_EXIT`), non-zero on any failure.
+//!
+//! # Unsafe code (firmware crate only; the hfray core forbids it)
+//! - Semihosting file I/O (`SYS_OPEN`/`SYS_WRITE`/`SYS_CLOSE`): a `bkpt 0xAB`
+//!   trap that reads our buffers by address; `cortex-m-semihosting` offers
+//!   no safe file API, so [`HostFile`] wraps the three raw calls.
+//! - Stack high-water: cortex-m-rt's `paint-stack` feature fills the RAM
+//!   between `_stack_end` (end of `.bss`) and `_stack_start` (initial SP)
+//!   with `0xCCCC_CCCC` in the reset handler, before `main`. After the render
+//!   [`stack_high_water`] reads that region with volatile loads through raw
+//!   pointers made from the two linker symbols: it is memory outside any Rust
+//!   object, so there is no safe way to look at it.
+#![no_std]
+#![no_main]
+
+mod scene;
+
+use core::fmt::Write as _;
+use cortex_m_rt::entry;
+use cortex_m_semihosting::{debug, hio, nr, syscall};
+
+/// Board name, from `build.rs` (follows the target).
+const BOARD: &str = env!("HFRAY_BOARD");
+
+/// A host file opened through semihosting.
+struct HostFile {
+    handle: usize,
+}
+
+impl HostFile {
+    /// Opens `name` (must end in NUL) for binary writing, truncating.
+    fn create(name: &str) -> Result<Self, ()> {
+        if !name.ends_with('\0') {
+            return Err(());
+        }
+        // SAFETY: SYS_OPEN reads `name.len() - 1` bytes from `name`, which
+        // lives for the duration of the call.
+        let handle = unsafe {
+            syscall!(
+                OPEN,
+                name.as_ptr(),
+                nr::open::W_TRUNC_BINARY,
+                name.len() - 1
+            )
+        };
+        if handle as isize == -1 {
+            Err(())
+        } else {
+            Ok(HostFile { handle })
+        }
+    }
+
+    /// Writes all of `bytes`. Bounded: each round writes at least one byte
+    /// or fails.
+    fn write_all(&mut self, mut bytes: &[u8]) -> Result<(), ()> {
+        while !bytes.is_empty() {
+            // SAFETY: SYS_WRITE reads `bytes.len()` bytes from `bytes`; it
+            // returns how many were NOT written.
+            let left = unsafe { syscall!(WRITE, self.handle, bytes.as_ptr(), bytes.len()) };
+            if left == 0 {
+                return Ok(());
+            }
+            if left >= bytes.len() {
+                return Err(());
+            }
+            bytes = &bytes[bytes.len() - left..];
+        }
+        Ok(())
+    }
+
+    fn close(self) -> Result<(), ()> {
+        // SAFETY: SYS_CLOSE takes the handle SYS_OPEN gave us.
+        match unsafe { syscall!(CLOSE, self.handle) } {
+            0 => Ok(()),
+            _ => Err(()),
+        }
+    }
+}
+
+extern "C" {
+    /// Initial stack pointer (top of RAM), from cortex-m-rt's `link.x`.
+    static _stack_start: u32;
+    /// Lowest address the stack may grow to (end of `.bss`/`.uninit`).
+    static _stack_end: u32;
+}
+
+/// The value cortex-m-rt's `paint-stack` writes over the free RAM.
+const PAINT: u32 = 0xCCCC_CCCC;
+
+/// Lowest stack address ever written since the region was painted: scans
+/// up from `_stack_end` for the first word that is not the paint. Bounded
+/// by the region's size in words.
+fn lowest_used_stack_address() -> usize {
+    let start = core::ptr::addr_of!(_stack_start) as usize;
+    let end = core::ptr::addr_of!(_stack_end) as usize;
+    let mut addr = end;
+    while addr < start {
+        // SAFETY: `[end, start)` is RAM reserved for the stack by the linker
+        // script; it is word aligned (link.x asserts it) and readable.
+        let word = unsafe { core::ptr::read_volatile(addr as *const u32) };
+        if word != PAINT {
+            break;
+        }
+        addr += 4;
+    }
+    addr
+}
+
+/// Gap left unpainted just below the stack pointer when repainting, so the
+/// painting code never writes over its own frame.
+const REPAINT_GAP: usize = 256;
+
+/// Paints `[_stack_end, sp - REPAINT_GAP)` again and returns `sp`, so a
+/// later [`lowest_used_stack_address`] measures what runs after this call.
+/// Inlined so `sp` is the caller's. Bounded by the region's size in words.
+#[inline(always)]
+fn repaint_below_sp() -> usize {
+    let sp = cortex_m::register::msp::read() as usize;
+    let end = core::ptr::addr_of!(_stack_end) as usize;
+    let mut addr = end;
+    while addr + REPAINT_GAP < sp {
+        // SAFETY: `[end, sp - REPAINT_GAP)` is stack RAM below every live
+        // frame (nothing runs but us: no interrupts are enabled).
+        unsafe { core::ptr::write_volatile(addr as *mut u32, PAINT) };
+        addr += 4;
+    }
+    sp
+}
+
+/// Host stdout, or fail.
+fn stdout() -> hio::HostStream {
+    match hio::hstdout() {
+        Ok(s) => s,
+        Err(()) => fail(),
+    }
+}
+
+fn fail() -> ! {
+    debug::exit(debug::EXIT_FAILURE);
+    // Only reached if the debugger ignored the exit request.
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let mut out = stdout();
+    let model = match scene::build_scene() {
+        Ok(s) => s,
+        Err(e) => {
+            let _ = writeln!(out, "board={BOARD} error=scene:{e:?}");
+            fail()
+        }
+    };
+    let fields = match scene::build_field(&model) {
+        Ok(f) => [f],
+        Err(e) => {
+            let _ = writeln!(out, "board={BOARD} error=field:{e:?}");
+            fail()
+        }
+    };
+    let name = match BOARD {
+        "microbit" => "frame-microbit.ppm\0",
+        _ => "frame-mps2-an386.ppm\0",
+    };
+    let mut file = match HostFile::create(name) {
+        Ok(f) => f,
+        Err(()) => {
+            let _ = writeln!(out, "board={BOARD} error=semihosting-open");
+            fail()
+        }
+    };
+    if file.write_all(scene::PPM_HEADER).is_err() {
+        fail();
+    }
+    let mut hash = scene::Fnv1a::default();
+    // Total use since reset so far (setup), then measure the render alone.
+    let setup_low = lowest_used_stack_address();
+    let render_sp = repaint_below_sp();
+    let stats = scene::render(&model, &fields, |_, line| {
+        hash.update(line);
+        file.write_all(line)
+    });
+    let stats = match stats {
+        Ok(s) => s,
+        Err(scene::FrameError::Render(e)) => {
+            let _ = writeln!(out, "board={BOARD} error=render:{e:?}");
+            fail()
+        }
+        Err(scene::FrameError::Sink(())) => {
+            let _ = writeln!(out, "board={BOARD} error=semihosting-write");
+            fail()
+        }
+    };
+    if file.close().is_err() {
+        fail();
+    }
+    let render_low = lowest_used_stack_address();
+    let top = core::ptr::addr_of!(_stack_start) as usize;
+    let limit = top - core::ptr::addr_of!(_stack_end) as usize;
+    // Whole program: reset handler, main's frame, the deepest call below.
+    let used = top - setup_low.min(render_low);
+    // The render call alone, below main's frame.
+    let render_used = render_sp - render_low;
+    let _ = writeln!(
+        out,
+        "board={BOARD} frame_checksum={:08x} stack_bytes={used} render_stack_bytes={render_used} \
+         stack_limit_bytes={limit} hits={} shadow_rays={} shadow_hits={} cells={} triangle_tests={}",
+        hash.0,
+        stats.hits,
+        stats.shadow_rays,
+        stats.shadow_hits,
+        stats.cells,
+        stats.triangle_tests
+    );
+    debug::exit(debug::EXIT_SUCCESS);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    // Keep the message out: formatting it would pull core::fmt's panic
+    // machinery into every build. The exit status tells the script.
+    if let Ok(mut out) = hio::hstdout() {
+        let _ = out.write_str("error=panic\n");
+    }
+    fail()
+}

@@ -1,0 +1,269 @@
+//! The firmware scene, built in code, and the scanline renderer that draws it.
+//!
+//! One file, included by every build that must produce the same frame:
+//! - the Cortex-M firmware (`examples/firmware/src/main.rs`, `mod scene;`),
+//! - the host reference (`examples/firmware_host.rs` in the main crate,
+//!   `#[path = "firmware/src/scene.rs"] mod scene;`),
+//! - the freestanding i486 program (`examples/firmware/i486/src/main.rs`).
+//!
+//! It uses only `core` and `hfray`: no allocation, no frame buffer. The frame
+//! is handed out one scanline (`WIDTH * 3` RGB bytes) at a time.
+//!
+//! The scene is a [`hfray::scene::model::Scene`] (the model the parser
+//! fills), rendered by hfray's own renderer: [`render`] calls
+//! [`hfray::render::render`]. [`Renderer`] is the same computation split
+//! into setup ([`hfray::Camera::new`], [`hfray::Tracer::new`]) and per-pixel
+//! work ([`hfray::Tracer::trace`]) for the i486 build, which must run the two
+//! under different x87 precision settings; the host reference checks that
+//! both give the same frame.
+#![allow(dead_code)]
+
+use core::ops::ControlFlow;
+
+use hfray::glam::{DVec3, Vec3};
+use hfray::heightfield::HeightFieldError;
+use hfray::scene::model::{
+    CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Projection, Scene, Shape,
+};
+use hfray::transform::TransformError;
+use hfray::{
+    Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb888, Samples,
+    Stats, Tracer, Transform,
+};
+
+/// Frame width in pixels.
+pub const WIDTH: usize = 96;
+/// Frame height in pixels.
+pub const HEIGHT: usize = 64;
+/// Bytes in one streamed scanline (RGB, 8 bits each).
+pub const LINE_BYTES: usize = WIDTH * 3;
+
+/// Samples per row of the embedded field.
+pub const FIELD_WIDTH: u32 = 87;
+/// Rows of the embedded field.
+pub const FIELD_DEPTH: u32 = 61;
+
+/// Maunga Whau (Mt Eden), 87 × 61 8-bit gray samples, image row 0 (north)
+/// first: `data/maunga_whau_87x61.u8.raw`, decoded from the shared PNG by
+/// `tools/png_to_raw.py` (provenance in `data/maunga_whau_volcano_87x61.txt`).
+/// A `static`, so on the microcontrollers it stays in flash.
+pub static FIELD_SAMPLES: [u8; (FIELD_WIDTH * FIELD_DEPTH) as usize] =
+    *include_bytes!("../data/maunga_whau_87x61.u8.raw");
+
+/// The scene model type: one object, one light.
+pub type FirmwareScene = Scene<'static, 1, 1>;
+
+/// Why the scene could not be built (never expected: the data is fixed).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SceneError {
+    /// The height field rejected the samples or its transform.
+    Field(HeightFieldError),
+    /// A transform component was rejected.
+    Transform(TransformError),
+    /// A `heapless` capacity was too small.
+    Capacity,
+}
+
+impl From<HeightFieldError> for SceneError {
+    fn from(e: HeightFieldError) -> Self {
+        SceneError::Field(e)
+    }
+}
+
+impl From<TransformError> for SceneError {
+    fn from(e: TransformError) -> Self {
+        SceneError::Transform(e)
+    }
+}
+
+/// The field's placement: the 860 m × 600 m survey (10 m spacing) scaled to
+/// 1 × 0.698 in x/z, its 101 m relief to 0.25 in y (about 2× exaggerated),
+/// centred on the origin in x/z.
+pub fn field_transform() -> Result<Transform, SceneError> {
+    let scale = Transform::scale(DVec3::new(1.0, 0.25, 600.0 / 860.0))?;
+    let shift = Transform::translate(DVec3::new(-0.5, 0.0, -0.35))?;
+    Ok(scale.then(&shift))
+}
+
+/// The scene as data: camera, one light, one smooth height field.
+pub fn build_scene() -> Result<FirmwareScene, SceneError> {
+    let mut scene = FirmwareScene {
+        camera: CameraDesc {
+            projection: Projection::Perspective,
+            location: Vec3::new(0.35, 0.85, -0.95),
+            look_at: Vec3::new(0.0, 0.0, 0.02),
+            angle: Some(55.0),
+            right: Vec3::new(WIDTH as f32 / HEIGHT as f32, 0.0, 0.0),
+            ..CameraDesc::default()
+        },
+        background: Vec3::new(0.45, 0.62, 0.85),
+        ..FirmwareScene::default()
+    };
+    // A low sun from the west (and a little south), so the crater rim and
+    // the western cone cast shadows.
+    scene
+        .lights
+        .push(Light {
+            position: Vec3::new(-2.5, 1.6, -0.6),
+            color: Vec3::ONE,
+        })
+        .map_err(|_| SceneError::Capacity)?;
+    scene
+        .objects
+        .push(Object {
+            shape: Shape::HeightField {
+                format: ImageFormat::Png,
+                path: "data/maunga_whau_87x61.u8.raw",
+                smooth: true,
+                water_level: 0.0,
+                palette_colors: false,
+                field_index: 0,
+            },
+            transform: field_transform()?,
+            pigment: Pigment {
+                color: Vec3::new(0.55, 0.72, 0.38),
+                ..Pigment::default()
+            },
+            finish: Finish {
+                ambient: Vec3::splat(0.15),
+                diffuse: 0.85,
+                ..Finish::default()
+            },
+        })
+        .map_err(|_| SceneError::Capacity)?;
+    Ok(scene)
+}
+
+/// The height field the scene's object 0 refers to, over the flash samples.
+pub fn build_field(scene: &FirmwareScene) -> Result<HeightField<'static>, SceneError> {
+    let transform = scene
+        .objects
+        .first()
+        .map(|o| o.transform)
+        .ok_or(SceneError::Capacity)?;
+    Ok(HeightField::new(
+        Samples::U8(&FIELD_SAMPLES),
+        FIELD_WIDTH,
+        FIELD_DEPTH,
+        HeightConvention::Gray8,
+    )?
+    .with_transform(transform))
+}
+
+/// FNV-1a, 32 bit, over the frame's RGB bytes in row order (no header).
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv1a(pub u32);
+
+impl Default for Fnv1a {
+    fn default() -> Self {
+        Fnv1a(0x811c_9dc5)
+    }
+}
+
+impl Fnv1a {
+    /// Feeds bytes.
+    pub fn update(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= b as u32;
+            self.0 = self.0.wrapping_mul(0x0100_0193);
+        }
+    }
+}
+
+/// Why a frame was not finished.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FrameError<E> {
+    /// hfray refused the scene (camera, shapes, fields).
+    Render(RenderError),
+    /// The sink failed; the render stopped there.
+    Sink(E),
+}
+
+/// Copies one row of pixels into RGB bytes.
+fn to_bytes(line: &[Rgb888; WIDTH], bytes: &mut [u8; LINE_BYTES]) {
+    for (dst, p) in bytes.chunks_exact_mut(3).zip(line.iter()) {
+        dst.copy_from_slice(&p.0);
+    }
+}
+
+/// Renders the frame with [`hfray::render::render`], handing each finished
+/// scanline (row 0 first, [`LINE_BYTES`] RGB bytes) to `sink`. Stops at the
+/// first sink error. State: one row of pixels and one of bytes (576 bytes).
+pub fn render<E>(
+    scene: &FirmwareScene,
+    fields: &[HeightField<'_>],
+    mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
+) -> Result<Stats, FrameError<E>> {
+    let settings = RenderSettings::new(WIDTH as u32, HEIGHT as u32);
+    let mut line = [Rgb888::default(); WIDTH];
+    let mut bytes = [0u8; LINE_BYTES];
+    let mut failed = None;
+    let stats = hfray::render(scene, fields, &settings, &mut line, &mut |y, row| {
+        let row: &[Rgb888; WIDTH] = match row.try_into() {
+            Ok(r) => r,
+            Err(_) => return ControlFlow::Break(()),
+        };
+        to_bytes(row, &mut bytes);
+        match sink(y as usize, &bytes) {
+            Ok(()) => ControlFlow::Continue(()),
+            Err(e) => {
+                failed = Some(e);
+                ControlFlow::Break(())
+            }
+        }
+    })
+    .map_err(FrameError::Render)?;
+    match failed {
+        Some(e) => Err(FrameError::Sink(e)),
+        None => Ok(stats),
+    }
+}
+
+/// [`render`] split in two: [`Renderer::new`] is the per-frame setup
+/// (camera and tracer; `f64` inside hfray), [`Renderer::render`] the
+/// per-pixel work (`f32` only). Same arithmetic as `hfray::render` with
+/// `aa = 1`: one ray through each pixel centre, `Rgb888::from_linear`.
+pub struct Renderer<'s> {
+    camera: Camera,
+    tracer: Tracer<'s, 1>,
+}
+
+impl<'s> Renderer<'s> {
+    /// Per-frame setup.
+    pub fn new(
+        scene: &'s FirmwareScene,
+        fields: &'s [HeightField<'s>],
+    ) -> Result<Self, RenderError> {
+        Ok(Renderer {
+            camera: Camera::new(&scene.camera, WIDTH as u32, HEIGHT as u32)
+                .map_err(RenderError::Camera)?,
+            tracer: Tracer::new(scene, fields)?,
+        })
+    }
+
+    /// Renders the frame; see [`render`]. Bounds: `HEIGHT × WIDTH` pixels,
+    /// each one `Tracer::trace` (itself bounded by hfray).
+    pub fn render<E>(
+        &self,
+        mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
+    ) -> Result<Stats, E> {
+        let mut stats = Stats::default();
+        let mut line = [Rgb888::default(); WIDTH];
+        let mut bytes = [0u8; LINE_BYTES];
+        for y in 0..HEIGHT {
+            for (x, px) in line.iter_mut().enumerate() {
+                let ray = self.camera.pixel_ray(x as u32, y as u32);
+                let c = self.tracer.trace(&ray, &mut stats);
+                *px = Rgb888::from_linear(c, x as u32, y as u32);
+            }
+            stats.rows += 1;
+            to_bytes(&line, &mut bytes);
+            sink(y, &bytes)?;
+        }
+        Ok(stats)
+    }
+}
+
+/// The binary PPM header for the frame, so a streamed frame is viewable.
+pub const PPM_HEADER: &[u8] = b"P6\n96 64\n255\n";
+const _: () = assert!(WIDTH == 96 && HEIGHT == 64, "update PPM_HEADER");
