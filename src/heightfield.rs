@@ -230,7 +230,8 @@ impl<'a> HeightField<'a> {
     ///
     /// A [`Transform`] built by its constructors is finite and invertible,
     /// but one composed with [`Transform::then`] can overflow or become
-    /// singular (`scale 1e200` twice); a field placed so is never hit.
+    /// singular (`scale <1e200, 1, 1>` twice); a field placed so is missed
+    /// by most rays and hit by others at degenerate points.
     /// [`try_with_transform`](Self::try_with_transform) reports that
     /// instead.
     pub fn with_transform(mut self, transform: Transform) -> Self {
@@ -240,9 +241,10 @@ impl<'a> HeightField<'a> {
     }
 
     /// [`with_transform`](Self::with_transform), checked: the transform,
-    /// its inverse, the world-to-grid map and the normal map must all be
-    /// finite, and the transform must stay finite in `f32` (renderers use
-    /// `f32` copies); otherwise [`HeightFieldError::Transform`].
+    /// its inverse, the world-to-grid map (both precisions) and the normal
+    /// map must all be finite, and the transform must stay finite in `f32`
+    /// (renderers and the `f32` walk use `f32` copies); otherwise
+    /// [`HeightFieldError::Transform`].
     pub fn try_with_transform(self, transform: Transform) -> Result<Self, HeightFieldError> {
         let det = transform.to_world().matrix3.determinant();
         if !(transform.to_world().is_finite()
@@ -255,7 +257,13 @@ impl<'a> HeightField<'a> {
             return Err(HeightFieldError::Transform);
         }
         let field = self.with_transform(transform);
-        if !(field.world_to_grid64.is_finite() && field.normal_matrix.is_finite()) {
+        let g = &field.world_to_grid;
+        if !(g.exact.is_finite()
+            && g.linear.is_finite()
+            && g.anchor.is_finite()
+            && g.anchor_grid.is_finite()
+            && field.normal_matrix.is_finite())
+        {
             return Err(HeightFieldError::Transform);
         }
         Ok(field)

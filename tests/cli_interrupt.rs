@@ -10,50 +10,13 @@
 //! the system's `kill` command.
 #![cfg(unix)]
 
-use std::path::{Path, PathBuf};
+#[path = "cli_common/mod.rs"]
+mod cli_common;
+
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// `target/<profile>/examples/render`. A whole `cargo test` builds it; when
-/// only this file is run (`cargo test --test cli_interrupt`) and it is
-/// missing, it is built here with the same profile.
-fn render_bin() -> PathBuf {
-    static BUILD: std::sync::Once = std::sync::Once::new();
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap();
-    let bin = dir.join("examples").join("render");
-    BUILD.call_once(|| {
-        if bin.exists() {
-            return;
-        }
-        let mut cmd = Command::new(env!("CARGO"));
-        cmd.args(["build", "--example", "render"])
-            .current_dir(env!("CARGO_MANIFEST_DIR"));
-        if dir.file_name().is_some_and(|p| p == "release") {
-            cmd.arg("--release");
-        }
-        let status = cmd.status().unwrap();
-        assert!(status.success(), "building the render example failed");
-    });
-    assert!(bin.exists(), "{} not built", bin.display());
-    bin
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("hfray-int-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn entries(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
+use cli_common::{entries, render_bin, temp_dir};
 
 /// Waits for the child to exit, killing it (and failing) after `limit`.
 fn wait_with_limit(child: &mut Child, limit: Duration) -> std::process::ExitStatus {
@@ -76,7 +39,7 @@ fn wait_with_limit(child: &mut Child, limit: Duration) -> std::process::ExitStat
 /// `signal`, and checks the exit status, the message and that the output
 /// folder is left empty.
 fn interrupted_render_leaves_nothing(signal: &str, name: &str) {
-    let dir = temp_dir(name);
+    let dir = temp_dir(&format!("int-{name}"));
     let out = dir.join("big.tga");
     let mut child = Command::new(render_bin())
         .args([
@@ -155,7 +118,7 @@ fn sigterm_removes_the_partial_file_and_exits_130() {
 /// got to replace it), with no temporary file beside it.
 #[test]
 fn bad_scene_keeps_an_existing_output_and_leaves_no_temporary() {
-    let dir = temp_dir("bad");
+    let dir = temp_dir("int-bad");
     let scene = dir.join("bad.pov");
     std::fs::write(
         &scene,
@@ -183,7 +146,7 @@ fn bad_scene_keeps_an_existing_output_and_leaves_no_temporary() {
 /// not exist.
 #[test]
 fn unwritable_output_exits_1_and_creates_nothing() {
-    let dir = temp_dir("nodir");
+    let dir = temp_dir("int-nodir");
     let out = dir.join("missing").join("x.tga");
     let o = Command::new(render_bin())
         .args([

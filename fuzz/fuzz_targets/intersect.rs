@@ -14,8 +14,9 @@
 //! finite `t` inside `[t_min, t_max]`, a finite point within the field's
 //! world bounds (tolerance scaled by the magnitudes involved and the
 //! transform's condition), an object point in the unit cube, a cell inside
-//! the grid, local coordinates in `[0, 1]`, finite normals and palette
-//! colours in `[0, 1]`. The `f64` path runs on the same ray with the same
+//! the grid, local coordinates in `[0, 1]`, finite normals (unit length
+//! when `try_with_transform` accepts the placement) and palette colours
+//! in `[0, 1]`. The `f64` path runs on the same ray with the same
 //! bound and finiteness checks.
 #![no_main]
 
@@ -270,6 +271,11 @@ fuzz_target!(|input: Input| {
             transform = transform.then(&t);
         }
     }
+    // Composed transforms may overflow or turn singular: the checked call
+    // says so; such fields are still intersected (through the unchecked
+    // call) for the no-panic, bound and finiteness checks, but only valid
+    // placements are held to unit normals and the bounds check.
+    let valid = field.clone().try_with_transform(transform).is_ok();
     let field = field.with_transform(transform);
     let to_world = *transform.to_world();
     let (lo, hi) = field.world_bounds();
@@ -356,10 +362,14 @@ fuzz_target!(|input: Input| {
             );
             assert!(op.y >= -e && op.y <= 1.0 + e, "object point {op:?}");
             assert!(field.smooth_normal(&h).is_finite());
+            if valid {
+                let len = h.normal.length();
+                assert!((len - 1.0).abs() < 1e-3, "normal {:?} of length {len}", h.normal);
+            }
             if let Some(c) = field.triangle_palette_color(h.cell_x, h.cell_z, h.triangle) {
                 assert!(c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0);
             }
-            if bounds_ok && cond.is_finite() {
+            if valid && bounds_ok && cond.is_finite() {
                 let tol = 64.0
                     * f32::EPSILON as f64
                     * cond.max(1.0)
