@@ -268,3 +268,41 @@ fn expression_nesting_at_and_past_max_depth() {
     // Far past it: still an error, not a stack overflow.
     assert!(parse_err(&nested(100_000)).contains("nesting too deep"));
 }
+
+// --- harness image headers -------------------------------------------------------
+
+#[path = "../examples/harness/mod.rs"]
+mod harness;
+
+fn decode_err(bytes: &[u8], format: hfray::scene::ImageFormat) -> String {
+    harness::images::decode_height_field(std::io::Cursor::new(bytes), format).unwrap_err()
+}
+
+#[test]
+fn tga_colour_map_over_256_entries_is_an_error() {
+    let mut h = vec![0u8; 18];
+    h[1] = 1; // colour map present
+    h[2] = 1; // colour-mapped
+    h[5..7].copy_from_slice(&257u16.to_le_bytes());
+    h[7] = 24;
+    h[12..14].copy_from_slice(&2u16.to_le_bytes());
+    h[14..16].copy_from_slice(&2u16.to_le_bytes());
+    h[16] = 8;
+    h[17] = 0x20;
+    assert_eq!(
+        decode_err(&h, hfray::scene::ImageFormat::Tga),
+        "TGA colour map has 257 entries; at most 256 are supported"
+    );
+}
+
+#[test]
+fn netpbm_header_numbers_past_u32_are_errors() {
+    assert_eq!(
+        decode_err(b"P5 99999999999 2 255\n", hfray::scene::ImageFormat::Pgm),
+        "corrupt Netpbm file: width is too large"
+    );
+    assert_eq!(
+        decode_err(b"P5 2 2 65536\n", hfray::scene::ImageFormat::Pgm),
+        "Netpbm maxval is 65536; it must be within 1..=65535"
+    );
+}
