@@ -147,8 +147,8 @@ pub struct HeightField<'a> {
     max_units: u32,
     transform: Transform,
     world_to_grid: GridTransform,
-    /// Inverse transpose of the grid-to-world linear map: carries grid-space
-    /// normals to world space.
+    /// Inverse transpose of the grid-to-world linear map, scaled by a power
+    /// of two: carries grid-space normal directions to world space.
     normal_matrix: glam::Mat3,
 }
 
@@ -287,7 +287,20 @@ impl<'a> HeightField<'a> {
                 1.0,
                 1.0 / (self.depth - 1) as f64,
             ));
-        self.normal_matrix = g2w.inverse().transpose().as_mat3();
+        // Only the direction of a normal matters: the inverse transpose is
+        // scaled by a power of two (exact) to a largest entry in [0.5, 1),
+        // in f64 before rounding to f32, so that normals of fields scaled
+        // by 1e30 or 1e-30 neither underflow nor overflow f32 before they
+        // are normalised (they came out zero).
+        let n = g2w.inverse().transpose();
+        let largest = n.abs().to_cols_array().into_iter().fold(0.0, f64::max);
+        let n = if largest > 0.0 && largest.is_finite() {
+            let (_, exponent) = libm::frexp(largest);
+            n * libm::ldexp(1.0, -exponent)
+        } else {
+            n
+        };
+        self.normal_matrix = n.as_mat3();
     }
 
     /// Samples per row.

@@ -51,6 +51,41 @@ fn huge_filter_and_transmit_gave_nan_pixels() {
     }
 }
 
+/// fuzz/intersect, crash-a06b6bf7833340b3d9f184161b7a1b233abf5e72: a
+/// 252×173 16-bit ramp scaled by 1e9 four times (1e36, a valid transform:
+/// finite and invertible in f32 and f64) was hit with a zero normal. The
+/// normal map (inverse transpose of grid-to-world, ~1e-36) made normals
+/// whose squared length underflows f32, and `normalize_or_zero` returned
+/// zero; tiny scales overflowed it likewise. Both directions of scale, for
+/// the geometric and the smooth normal, must give unit normals.
+#[test]
+fn normal_of_field_scaled_by_1e36_was_zero() {
+    use hfray::glam::{DVec3, Vec3};
+    use hfray::{HeightConvention, HeightField, Ray, Samples, Transform};
+    let samples: Vec<u16> = (0..16).map(|i| (i / 4) * 20_000).collect();
+    for scale in [1e36, 1e20, 1e-20, 1e-30] {
+        let s = Transform::scale(DVec3::splat(scale)).unwrap();
+        let field = HeightField::new(Samples::U16(&samples), 4, 4, HeightConvention::Gray16)
+            .unwrap()
+            .try_with_transform(s)
+            .unwrap();
+        let k = scale as f32;
+        let ray = Ray::new(Vec3::new(0.4, 2.0, 0.3) * k, Vec3::NEG_Y * k);
+        let hit = field
+            .intersect(&ray, 0.0, f32::INFINITY)
+            .unwrap_or_else(|| panic!("scale {scale}: no hit"));
+        for n in [hit.normal, field.smooth_normal(&hit)] {
+            assert!(
+                (n.length() - 1.0).abs() < 1e-5,
+                "scale {scale}: normal {n:?}"
+            );
+            // The ramp rises towards the image's bottom row (z = 0): the
+            // normal leans to +z.
+            assert!(n.y > 0.0 && n.z > 0.0, "scale {scale}: normal {n:?}");
+        }
+    }
+}
+
 // --- the committed fuzz seeds, run as tests ----------------------------------------
 
 #[path = "../examples/harness/mod.rs"]
