@@ -474,7 +474,21 @@ impl<'a> HeightField<'a> {
     /// Converts a grid-space normal `(-dh/du, 1, -dh/dv)` to a unit world
     /// normal (inverse transpose of the grid-to-world map).
     fn grid_normal_to_world(&self, n: Vec3) -> Vec3 {
-        (self.normal_matrix * n).normalize_or_zero()
+        let w = self.normal_matrix * n;
+        let len2 = w.length_squared();
+        if len2.is_finite() && len2 >= 1e-30 {
+            return w.normalize_or_zero();
+        }
+        // Strongly anisotropic placements (a scale of 1e-20 on one axis and
+        // 1e3 on another) leave components far below 1 whose squares
+        // underflow: divide by the largest first (exact direction, no
+        // square below 1e-30 or above 3).
+        let largest = w.abs().max_element();
+        if largest > 0.0 && largest.is_finite() {
+            (w / largest).normalize_or_zero()
+        } else {
+            Vec3::ZERO
+        }
     }
 
     /// Unit geometric normal of a triangle in world space ("up" side).

@@ -86,6 +86,40 @@ fn normal_of_field_scaled_by_1e36_was_zero() {
     }
 }
 
+/// fuzz/intersect, crash-015a3f29b37ff99226229ac860ac4dc858e04dc2: the
+/// same zero normal after the fix above, from an anisotropic placement,
+/// `scale <1e-20, -83.7, -931.7>` on a 252×173 16-bit ramp: the world
+/// normal's components were ~1e-25, their squares underflowed. Unit
+/// normals for anisotropic scales too.
+#[test]
+fn normal_of_field_scaled_1e_20_on_one_axis_was_zero() {
+    use hfray::glam::{DVec3, Vec3};
+    use hfray::{HeightConvention, HeightField, Ray, Samples, Transform};
+    let samples: Vec<u16> = (0..16).map(|i| (i / 4) * 20_000).collect();
+    for scale in [
+        DVec3::new(1e-20, -83.6875, -931.6875),
+        DVec3::new(1e20, 1e-3, 1.0),
+        DVec3::new(1.0, 1e15, 1e-15),
+    ] {
+        let s = Transform::scale(scale).unwrap();
+        let field = HeightField::new(Samples::U16(&samples), 4, 4, HeightConvention::Gray16)
+            .unwrap()
+            .try_with_transform(s)
+            .unwrap();
+        let k = scale.as_vec3();
+        let ray = Ray::new(Vec3::new(0.4, 2.0, 0.3) * k, Vec3::NEG_Y * k);
+        let hit = field
+            .intersect(&ray, 0.0, f32::INFINITY)
+            .unwrap_or_else(|| panic!("scale {scale}: no hit"));
+        for n in [hit.normal, field.smooth_normal(&hit)] {
+            assert!(
+                (n.length() - 1.0).abs() < 1e-5,
+                "scale {scale}: normal {n:?}"
+            );
+        }
+    }
+}
+
 // --- the committed fuzz seeds, run as tests ----------------------------------------
 
 #[path = "../examples/harness/mod.rs"]
