@@ -170,7 +170,60 @@ pub(crate) fn nearest<S: Real>(
     any: bool,
     counters: &mut Counters,
 ) -> Option<GridHit<S>> {
+    // A direction component so small that its reciprocal overflows is
+    // walked as parallel (see `Axis`). That is right while the ray moves
+    // negligibly along it over the span walked, which the box bounds when
+    // the largest component is about 1 — but not when every component is
+    // tiny (a denormal direction) and `[t_min, t_max]` spans ~1e38: such a
+    // ray was hit outside the field, or at t = NaN. It is walked as the
+    // same ray with its direction divided by its largest component and t
+    // multiplied by it; the hit's t is divided back. Ordinary rays never
+    // take this branch, so their results are unchanged.
+    let d = &ray.direction;
+    let tiny = d
+        .iter()
+        .any(|&v| v != S::ZERO && v.is_finite() && !(S::ONE / v).is_finite());
+    if tiny {
+        let m = d[0].abs().max(d[1].abs()).max(d[2].abs());
+        if m > S::ZERO && m.is_finite() {
+            let scaled = GridRay {
+                origin: ray.origin,
+                direction: [d[0] / m, d[1] / m, d[2] / m],
+            };
+            // Finite bounds stay finite (infinite and NaN ones keep their
+            // meaning).
+            let scale = |t: S, bound: S| {
+                let s = t * m;
+                if t.is_finite() && !s.is_finite() {
+                    bound
+                } else {
+                    s
+                }
+            };
+            let (lo, hi) = (scale(t_min, -S::MAX), scale(t_max, S::MAX));
+            let mut hit = walk(field, &scaled, lo, hi, counters)?;
+            let t = hit.t / m;
+            // Past the largest finite t: outside any [t_min, t_max].
+            if !t.is_finite() {
+                return None;
+            }
+            hit.t = t.max(t_min).min(t_max);
+            return Some(hit);
+        }
+    }
     let _ = any;
+    walk(field, ray, t_min, t_max, counters)
+}
+
+/// [`nearest`] for a ray whose direction components are each zero or have
+/// a finite reciprocal (or are negligible next to the largest).
+fn walk<S: Real>(
+    field: &HeightField<'_>,
+    ray: &GridRay<S>,
+    t_min: S,
+    t_max: S,
+    counters: &mut Counters,
+) -> Option<GridHit<S>> {
     let o = &ray.origin;
     let d = &ray.direction;
     if !(o.iter().all(|v| v.is_finite()) && d.iter().all(|v| v.is_finite())) {

@@ -120,6 +120,53 @@ fn normal_of_field_scaled_1e_20_on_one_axis_was_zero() {
     }
 }
 
+/// fuzz/intersect, crash-c29e05d0775bcde2046734ee5c789ab764ee410c: a
+/// flat 135×2 field at height 0 and a ray lying in its plane with a
+/// denormal direction, `o = (−0, −0, −0)`, `d = (−0, −0, 1e-39)`, over
+/// `[f32::MIN, ∞)`. `1/d` overflows, so every axis was walked as parallel:
+/// the ray was taken to be inside the field over the whole range, the hit
+/// was interpolated at `t_min + (t_max − t_min)·0 = −3.4e38 + ∞·0` = NaN
+/// (and would have been at z = −0.34, off the field). Now the direction
+/// is rescaled first: the ray enters the field at t = 0, the hit is there.
+#[test]
+fn denormal_direction_in_the_plane_of_a_flat_field_hit_at_t_nan() {
+    use hfray::glam::Vec3;
+    use hfray::{Counters, HeightConvention, HeightField, Ray, Samples};
+    let samples = vec![0u8; 135 * 2];
+    let field = HeightField::new(Samples::U8(&samples), 135, 2, HeightConvention::Indexed).unwrap();
+    let ray = Ray::new(Vec3::splat(-0.0), Vec3::new(-0.0, -0.0, 1e-39));
+    let mut counters = Counters::default();
+    let hit = field
+        .intersect_counted(&ray, f32::MIN, f32::INFINITY, &mut counters)
+        .expect("the ray runs along the surface from z = 0");
+    assert_eq!(hit.t, 0.0);
+    assert_eq!(hit.point, Vec3::ZERO);
+    assert_eq!((hit.cell_x, hit.cell_z), (0, 0));
+    assert!(counters.cells <= 135 + 2 - 2);
+    // The f64 path agrees.
+    let h64 = field
+        .intersect_in::<f64>(
+            [-0.0; 3],
+            [-0.0, -0.0, 1e-39],
+            f32::MIN as f64,
+            f64::INFINITY,
+            &mut Counters::default(),
+        )
+        .expect("f64 hit");
+    assert_eq!(h64.t, 0.0);
+    // A denormal direction straight down onto the field from y = 2 would
+    // hit at t ≈ 2e40, past the largest f32: no hit in range, not inf.
+    let down = Ray::new(Vec3::new(0.5, 2.0, 0.5), Vec3::new(0.0, -1e-40, 0.0));
+    assert_eq!(field.intersect(&down, 0.0, f32::INFINITY), None);
+    // With a direction ~1e-38 the hit is at t ≈ 2e38: representable.
+    let down = Ray::new(Vec3::new(0.5, 2.0, 0.5), Vec3::new(0.0, -1e-38, 0.0));
+    let hit = field.intersect(&down, 0.0, f32::INFINITY).expect("hit");
+    assert!(
+        hit.t.is_finite() && (hit.point - Vec3::new(0.5, 0.0, 0.5)).length() < 1e-3,
+        "{hit:?}"
+    );
+}
+
 // --- the committed fuzz seeds, run as tests ----------------------------------------
 
 #[path = "../examples/harness/mod.rs"]
