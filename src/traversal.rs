@@ -179,6 +179,11 @@ pub(crate) fn nearest<S: Real>(
     // same ray with its direction divided by its largest component and t
     // multiplied by it; the hit's t is divided back. Ordinary rays never
     // take this branch, so their results are unchanged.
+    // NaN bounds compare as unordered and miss; so does an inverted range
+    // (checked here too: rescaled, `[0, −1e-45]` would round to `[0, −0]`).
+    if t_min.partial_cmp(&t_max).is_none_or(|o| o.is_gt()) {
+        return None;
+    }
     let d = &ray.direction;
     let tiny = d
         .iter()

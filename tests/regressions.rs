@@ -154,6 +154,12 @@ fn denormal_direction_in_the_plane_of_a_flat_field_hit_at_t_nan() {
         )
         .expect("f64 hit");
     assert_eq!(h64.t, 0.0);
+    // fuzz/intersect, crash-d3504f5851c63688f0ec346aa2c7a25797a8803c: the
+    // rescaling must not turn an inverted range into a valid one:
+    // `[0, −1e-45]` scaled by 1e-39 rounds to `[0, −0]`, which was walked
+    // and hit at t = −1e-45.
+    let near = Ray::new(Vec3::splat(-1e-45), Vec3::new(-1e-45, -1e-45, 1e-39));
+    assert_eq!(field.intersect(&near, 0.0, -1e-45), None);
     // A denormal direction straight down onto the field from y = 2 would
     // hit at t ≈ 2e40, past the largest f32: no hit in range, not inf.
     let down = Ray::new(Vec3::new(0.5, 2.0, 0.5), Vec3::new(0.0, -1e-40, 0.0));
