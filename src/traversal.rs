@@ -170,6 +170,11 @@ pub(crate) fn nearest<S: Real>(
     any: bool,
     counters: &mut Counters,
 ) -> Option<GridHit<S>> {
+    // NaN bounds compare as unordered and miss; so does an inverted range
+    // (checked here too: rescaled, `[0, −1e-45]` would round to `[0, −0]`).
+    if t_min.partial_cmp(&t_max).is_none_or(|o| o.is_gt()) {
+        return None;
+    }
     // A direction component so small that its reciprocal overflows is
     // walked as parallel (see `Axis`). That is right while the ray moves
     // negligibly along it over the span walked, which the box bounds when
@@ -179,11 +184,6 @@ pub(crate) fn nearest<S: Real>(
     // same ray with its direction divided by its largest component and t
     // multiplied by it; the hit's t is divided back. Ordinary rays never
     // take this branch, so their results are unchanged.
-    // NaN bounds compare as unordered and miss; so does an inverted range
-    // (checked here too: rescaled, `[0, −1e-45]` would round to `[0, −0]`).
-    if t_min.partial_cmp(&t_max).is_none_or(|o| o.is_gt()) {
-        return None;
-    }
     let d = &ray.direction;
     let tiny = d
         .iter()
@@ -195,17 +195,23 @@ pub(crate) fn nearest<S: Real>(
                 origin: ray.origin,
                 direction: [d[0] / m, d[1] / m, d[2] / m],
             };
-            // Finite bounds stay finite (infinite and NaN ones keep their
-            // meaning).
-            let scale = |t: S, bound: S| {
-                let s = t * m;
-                if t.is_finite() && !s.is_finite() {
-                    bound
-                } else {
-                    s
+            // A finite bound that overflows when scaled: past +MAX, a
+            // range starting there is empty and one ending there ends at
+            // MAX; below −MAX, the reverse. (Infinite bounds keep their
+            // meaning.)
+            let (mut lo, mut hi) = (t_min * m, t_max * m);
+            if t_min.is_finite() && !lo.is_finite() {
+                if lo > S::ZERO {
+                    return None;
                 }
-            };
-            let (lo, hi) = (scale(t_min, -S::MAX), scale(t_max, S::MAX));
+                lo = -S::MAX;
+            }
+            if t_max.is_finite() && !hi.is_finite() {
+                if hi < S::ZERO {
+                    return None;
+                }
+                hi = S::MAX;
+            }
             let mut hit = walk(field, &scaled, lo, hi, counters)?;
             let t = hit.t / m;
             // Past the largest finite t: outside any [t_min, t_max].

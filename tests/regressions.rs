@@ -173,6 +173,43 @@ fn denormal_direction_in_the_plane_of_a_flat_field_hit_at_t_nan() {
     );
 }
 
+/// fuzz/intersect, crash-1d587c0c4f93b430cfc0cf16ac231c783f16fc0b: a
+/// 3×50 flat field, `o = (−1e-45, −1e-45, −1e-45)`,
+/// `d = (−1e-45, 1.3e36, 1.3e36)` (so the x component is rescaled, by
+/// m ≈ 6.4e37), and `t_min = t_max = 1.3e36`: `t_min·m` overflowed to
+/// +inf and was taken as −MAX, the whole ray was walked, and the hit at
+/// the origin was reported at t = 1.3e36 with the point (−1.8e-9, inf,
+/// inf). A range that starts past f32::MAX once rescaled is empty; the
+/// f64 path (which needs no rescaling here) agrees.
+#[test]
+fn rescaled_t_min_overflow_walked_the_whole_ray() {
+    use hfray::glam::Vec3;
+    use hfray::{Counters, HeightConvention, HeightField, Ray, Samples};
+    let samples = vec![0u8; 3 * 50];
+    let field = HeightField::new(Samples::U8(&samples), 3, 50, HeightConvention::Gray8).unwrap();
+    let o = Vec3::splat(-1e-45);
+    let d = Vec3::new(-1e-45, 1.305771e36, 1.305771e36);
+    let t = 1.305771e36f32;
+    assert_eq!(field.intersect(&Ray::new(o, d), t, t), None);
+    let h64 = field.intersect_in::<f64>(
+        o.to_array().map(f64::from),
+        d.to_array().map(f64::from),
+        f64::from(t),
+        f64::from(t),
+        &mut Counters::default(),
+    );
+    assert_eq!(h64, None);
+    // From t = 0 the same ray starts (a hair) under the flat surface and
+    // rises through it at once.
+    let hit = field
+        .intersect(&Ray::new(o, d), 0.0, f32::INFINITY)
+        .expect("hit");
+    assert!(
+        hit.t >= 0.0 && hit.t < 1e-30 && hit.point.is_finite(),
+        "{hit:?}"
+    );
+}
+
 // --- the committed fuzz seeds, run as tests ----------------------------------------
 
 #[path = "../examples/harness/mod.rs"]
