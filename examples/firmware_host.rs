@@ -5,14 +5,19 @@
 //! streamed.
 //!
 //! ```text
-//! cargo run --release --example firmware_host [-- OUT.ppm]
+//! cargo run --release --example firmware_host [-- [--scene NAME] [OUT.ppm]]
 //! ```
+//!
+//! `NAME` is one of `scene::VARIANTS` (`base`, the default; `reflect-1`,
+//! `reflect-5`; with hfray's default `primitives` feature also `plane-1`,
+//! `plane-5`).
 //!
 //! Renders twice: with `hfray::render` (what the Cortex-M firmware runs) and
 //! with the setup/per-pixel split `scene::Renderer` (what the i486 program
-//! runs); fails unless the two frames are identical. Prints
-//! `host_checksum=XXXXXXXX` (FNV-1a 32 over the RGB bytes in row order) and,
-//! given a path, writes the frame there as a binary PPM.
+//! runs); fails unless the two frames and their work counters are identical.
+//! Prints `host_checksum=XXXXXXXX scene=NAME hits=N ...` (FNV-1a 32 over the
+//! RGB bytes in row order, then the work counters) and, given a path, writes
+//! the frame there as a binary PPM.
 
 #[path = "firmware/src/scene.rs"]
 mod scene;
@@ -21,8 +26,28 @@ use std::io::Write;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let out = std::env::args().nth(1);
-    let scene_model = match scene::build_scene() {
+    let mut out = None;
+    let mut variant = scene::Variant::Base;
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        if arg == "--scene" {
+            let name = args.next().unwrap_or_default();
+            match scene::Variant::by_name(name.as_bytes()) {
+                Some(v) => variant = v,
+                None => {
+                    let names: Vec<&str> = scene::VARIANTS.iter().map(|(n, _)| *n).collect();
+                    eprintln!(
+                        "firmware_host: unknown scene {name:?} (this build has: {})",
+                        names.join(", ")
+                    );
+                    return ExitCode::FAILURE;
+                }
+            }
+        } else {
+            out = Some(arg);
+        }
+    }
+    let scene_model = match scene::build_scene(variant) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("firmware_host: cannot build the scene: {e:?}");
@@ -61,9 +86,17 @@ fn main() -> ExitCode {
             Ok::<(), ()>(())
         })
     });
-    if !matches!(split, Ok(Ok(_))) || split_hash.0 != hash.0 {
+    let split_stats = match split {
+        Ok(Ok(s)) => s,
+        _ => {
+            eprintln!("firmware_host: the split renderer failed");
+            return ExitCode::FAILURE;
+        }
+    };
+    if split_hash.0 != hash.0 || split_stats != stats {
         eprintln!(
-            "firmware_host: the split renderer's frame ({:08x}) differs from hfray::render's ({:08x})",
+            "firmware_host: the split renderer's frame ({:08x}, {split_stats:?}) differs from \
+             hfray::render's ({:08x}, {stats:?})",
             split_hash.0, hash.0
         );
         return ExitCode::FAILURE;
@@ -75,9 +108,13 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     }
+    let mut work = String::new();
+    // Writing to a String cannot fail.
+    let _ = scene::write_work(&mut work, &stats);
     println!(
-        "host_checksum={:08x} hits={} shadow_rays={} shadow_hits={} cells={} triangle_tests={}",
-        hash.0, stats.hits, stats.shadow_rays, stats.shadow_hits, stats.cells, stats.triangle_tests
+        "host_checksum={:08x} scene={} {work}",
+        hash.0,
+        variant.name()
     );
     ExitCode::SUCCESS
 }

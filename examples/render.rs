@@ -176,15 +176,18 @@ fn extension(p: &Path) -> String {
         .to_ascii_lowercase()
 }
 
-/// Rows, in order, as they leave the renderer.
-trait RowSink {
-    fn row(&mut self, row: &[Rgb888]) -> Result<(), String>;
-    fn depth_row(&mut self, row: &[f32]) -> Result<(), String>;
-    fn finish(self: Box<Self>) -> Result<(), String>;
+type File = std::io::BufWriter<std::fs::File>;
+
+/// The output file, written row by row in order as rows leave the renderer.
+enum Output {
+    Tga(TgaWriter<File>),
+    Png(Box<PngWriter<File>>),
+    Pfm(PfmWriter<File>),
 }
 
-struct ImageOut<W> {
-    writer: W,
+/// An output and the name its errors report.
+struct Sink {
+    output: Output,
     path: PathBuf,
     bytes: Vec<[u8; 3]>,
 }
@@ -193,91 +196,45 @@ fn io_err(path: &Path, e: std::io::Error) -> String {
     format!("{}: {e}", path.display())
 }
 
-impl RowSink for ImageOut<TgaWriter<std::io::BufWriter<std::fs::File>>> {
-    fn row(&mut self, row: &[Rgb888]) -> Result<(), String> {
-        self.bytes.clear();
-        self.bytes.extend(row.iter().map(|p| p.0));
-        self.writer
-            .write_row(&self.bytes)
-            .map_err(|e| io_err(&self.path, e))
-    }
-    fn depth_row(&mut self, _: &[f32]) -> Result<(), String> {
-        unreachable_sink()
-    }
-    fn finish(self: Box<Self>) -> Result<(), String> {
-        let path = self.path;
-        let mut w = self.writer.finish().map_err(|e| io_err(&path, e))?;
-        w.flush().map_err(|e| io_err(&path, e))
-    }
-}
-
-impl RowSink for ImageOut<PngWriter<std::io::BufWriter<std::fs::File>>> {
-    fn row(&mut self, row: &[Rgb888]) -> Result<(), String> {
-        self.bytes.clear();
-        self.bytes.extend(row.iter().map(|p| p.0));
-        self.writer
-            .write_row(&self.bytes)
-            .map_err(|e| io_err(&self.path, e))
-    }
-    fn depth_row(&mut self, _: &[f32]) -> Result<(), String> {
-        unreachable_sink()
-    }
-    fn finish(self: Box<Self>) -> Result<(), String> {
-        let path = self.path;
-        self.writer.finish().map_err(|e| io_err(&path, e))
-    }
-}
-
-impl RowSink for ImageOut<PfmWriter<std::io::BufWriter<std::fs::File>>> {
-    fn row(&mut self, _: &[Rgb888]) -> Result<(), String> {
-        unreachable_sink()
-    }
-    fn depth_row(&mut self, row: &[f32]) -> Result<(), String> {
-        self.writer
-            .write_row(row)
-            .map_err(|e| io_err(&self.path, e))
-    }
-    fn finish(self: Box<Self>) -> Result<(), String> {
-        let path = self.path;
-        let mut w = self.writer.finish().map_err(|e| io_err(&path, e))?;
-        w.flush().map_err(|e| io_err(&path, e))
-    }
-}
-
-fn unreachable_sink() -> Result<(), String> {
-    Err("internal error: row of the wrong kind for this output".into())
-}
-
-fn open_sink(
-    path: &Path,
-    temp: &Path,
-    width: u32,
-    height: u32,
-) -> Result<Box<dyn RowSink>, String> {
-    let err = |e| io_err(path, e);
-    let file = || -> Result<_, String> {
-        Ok(std::io::BufWriter::new(
-            std::fs::File::create(temp).map_err(err)?,
-        ))
-    };
-    let path = path.to_path_buf();
-    Ok(match extension(&path).as_str() {
-        "tga" => Box::new(ImageOut {
-            writer: TgaWriter::new(file()?, width, height).map_err(err)?,
-            path,
+impl Sink {
+    /// Creates `temp` for the final `path`, typed by `path`'s extension.
+    fn create(path: &Path, temp: &Path, width: u32, height: u32) -> Result<Sink, String> {
+        let err = |e| io_err(path, e);
+        let file = std::io::BufWriter::new(std::fs::File::create(temp).map_err(err)?);
+        let output = match extension(path).as_str() {
+            "tga" => Output::Tga(TgaWriter::new(file, width, height).map_err(err)?),
+            "png" => Output::Png(Box::new(PngWriter::new(file, width, height).map_err(err)?)),
+            _ => Output::Pfm(PfmWriter::new(file, width, height).map_err(err)?),
+        };
+        Ok(Sink {
+            output,
+            path: path.to_path_buf(),
             bytes: Vec::new(),
-        }),
-        "png" => Box::new(ImageOut {
-            writer: PngWriter::new(file()?, width, height).map_err(err)?,
-            path,
-            bytes: Vec::new(),
-        }),
-        _ => Box::new(ImageOut {
-            writer: PfmWriter::new(file()?, width, height).map_err(err)?,
-            path,
-            bytes: Vec::new(),
-        }),
-    })
+        })
+    }
+
+    fn write(&mut self, row: &Row) -> Result<(), String> {
+        if let Row::Color(pixels) = row {
+            self.bytes.clear();
+            self.bytes.extend(pixels.iter().map(|p| p.0));
+        }
+        let result = match (&mut self.output, row) {
+            (Output::Tga(w), Row::Color(_)) => w.write_row(&self.bytes),
+            (Output::Png(w), Row::Color(_)) => w.write_row(&self.bytes),
+            (Output::Pfm(w), Row::Depth(depths)) => w.write_row(depths),
+            _ => return Err("internal error: row of the wrong kind for this output".into()),
+        };
+        result.map_err(|e| io_err(&self.path, e))
+    }
+
+    fn finish(self) -> Result<(), String> {
+        let err = |e| io_err(&self.path, e);
+        match self.output {
+            Output::Tga(w) => w.finish().and_then(|mut f| f.flush()).map_err(err),
+            Output::Png(w) => w.finish().map_err(err),
+            Output::Pfm(w) => w.finish().and_then(|mut f| f.flush()).map_err(err),
+        }
+    }
 }
 
 /// A row finished by a worker.
@@ -326,7 +283,7 @@ fn render_rows(
     fields: &[HeightField<'_>],
     o: &Options,
     rows: Range<u32>,
-    sink: &mut dyn RowSink,
+    sink: &mut Sink,
     progress: &mut Progress,
 ) -> Result<Stats, String> {
     let base = RenderSettings::new(o.width, o.height).with_aa(o.aa);
@@ -401,11 +358,7 @@ fn render_rows(
                         break 'bands;
                     }
                 };
-                let written = match &row {
-                    Row::Color(r) => sink.row(r),
-                    Row::Depth(r) => sink.depth_row(r),
-                };
-                if let Err(e) = written {
+                if let Err(e) = sink.write(&row) {
                     failure = Some(e);
                     break 'bands;
                 }
@@ -525,7 +478,7 @@ fn run(o: &Options) -> Result<(), String> {
         let mut sink = {
             let mut guard = partial();
             *guard = Some(temp.clone());
-            match open_sink(&output, &temp, o.width, rows.len() as u32) {
+            match Sink::create(&output, &temp, o.width, rows.len() as u32) {
                 Ok(sink) => sink,
                 Err(e) => {
                     let _ = std::fs::remove_file(&temp);
@@ -536,15 +489,8 @@ fn run(o: &Options) -> Result<(), String> {
         };
         let mut progress = Progress::new(o.quiet, rows.len() as u32);
         let trace_start = Instant::now();
-        let result = render_rows(
-            &scene,
-            &fields,
-            o,
-            rows.clone(),
-            sink.as_mut(),
-            &mut progress,
-        )
-        .and_then(|stats| sink.finish().map(|()| stats));
+        let result = render_rows(&scene, &fields, o, rows.clone(), &mut sink, &mut progress)
+            .and_then(|stats| sink.finish().map(|()| stats));
         let trace_seconds = trace_start.elapsed().as_secs_f64();
         let stats = match result {
             Ok(stats) => stats,

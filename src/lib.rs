@@ -1,6 +1,259 @@
-//! hfray: a `no_std`, allocation-free ray tracer for height fields.
+//! hfray: a `no_std`, allocation-free ray tracer for height fields that
+//! streams scanlines.
 //!
-//! (Crate documentation is being written; see README.md.)
+//! hfray renders terrain given as a grid of heights — an 8-bit GIF whose
+//! palette index is the height, a 16-bit PNG elevation model, or a `&[u8]`
+//! in a microcontroller's flash — without ever building a triangle mesh
+//! or a frame buffer. It reproduces POV-Ray 3.7's `height_field` geometry
+//! and its finish model, so a POV-Ray scene file renders the same picture,
+//! and it runs the same code on a desktop, a 486 with 8 MB, and a
+//! Cortex-M with a few hundred KiB. It follows and extends F. J. Figueroa's
+//! 1996 master's thesis (UFRGS) on ray tracing height fields.
+//!
+//! The core is `#![no_std]`, uses no `alloc` and no `unsafe`, never panics
+//! on bad input (every error says where and why), and bounds every loop.
+//! Its only dependencies are `libm`, `heapless` and `glam`.
+//!
+//! # Two ways in
+//!
+//! **Firmware**: the heights are a `static` array, the scene is built in
+//! code (no parser linked), and each finished row goes to a callback — an
+//! SPI display, a UART, or here a checksum. The line buffer is the only
+//! pixel memory.
+//!
+//! ```
+//! use core::ops::ControlFlow;
+//! use hfray::glam::{DVec3, Vec3};
+//! use hfray::scene::{CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Scene, Shape};
+//! use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb565, Samples, Transform};
+//!
+//! // 5 × 5 palette indices in flash (height = index / 256): a small hill.
+//! static TERRAIN: [u8; 25] = [
+//!     0, 10, 20, 10, 0, //
+//!     10, 60, 90, 60, 10, //
+//!     20, 90, 200, 90, 20, //
+//!     10, 60, 90, 60, 10, //
+//!     0, 10, 20, 10, 0, //
+//! ];
+//!
+//! // The unit cube, scaled to 2 × 0.6 × 2 and centred on the origin.
+//! let place = Transform::scale(DVec3::new(2.0, 0.6, 2.0))
+//!     .and_then(|s| Ok(s.then(&Transform::translate(DVec3::new(-1.0, 0.0, -1.0))?)))
+//!     .expect("finite, invertible");
+//! let field = HeightField::new(Samples::U8(&TERRAIN), 5, 5, HeightConvention::Indexed)
+//!     .expect("5 × 5 samples")
+//!     .with_transform(place);
+//!
+//! // Room for 2 objects and 1 light, fixed at compile time.
+//! let mut scene: Scene<'static, 2, 1> = Scene::default();
+//! scene.camera = CameraDesc {
+//!     location: Vec3::new(0.0, 1.6, -2.6),
+//!     look_at: Vec3::new(0.0, 0.2, 0.0),
+//!     ..CameraDesc::default()
+//! };
+//! scene.background = Vec3::new(0.5, 0.7, 0.9);
+//! let sun = Light { position: Vec3::new(-4.0, 6.0, -3.0), color: Vec3::ONE };
+//! scene.lights.push(sun).expect("capacity 1");
+//! let terrain = Object {
+//!     shape: Shape::HeightField {
+//!         format: ImageFormat::Gif, // only a label here: the data is TERRAIN
+//!         path: "",
+//!         smooth: true,
+//!         water_level: 0.0,
+//!         palette_colors: false,
+//!         field_index: 0, // fields[0]
+//!     },
+//!     transform: place,
+//!     pigment: Pigment { color: Vec3::new(0.45, 0.6, 0.3), ..Pigment::default() },
+//!     finish: Finish::default(),
+//! };
+//! scene.objects.push(terrain).expect("capacity 2");
+//!
+//! let fields = [field];
+//! let mut line = [Rgb565::default(); 32]; // one 32-pixel row: 64 bytes
+//! let mut checksum = 0u32;
+//! let stats = render(
+//!     &scene,
+//!     &fields,
+//!     &RenderSettings::new(32, 24),
+//!     &mut line,
+//!     &mut |_y, row: &[Rgb565]| {
+//!         // Send `row` to the display here (`p.0.to_be_bytes()` per pixel).
+//!         for p in row {
+//!             checksum = checksum.rotate_left(5) ^ u32::from(p.0);
+//!         }
+//!         ControlFlow::Continue(())
+//!     },
+//! )
+//! .expect("valid scene and settings");
+//! assert_eq!(stats.rows, 24);
+//! assert!(stats.hits > 0 && stats.hits < 32 * 24); // terrain and sky
+//! assert_ne!(checksum, 0);
+//! ```
+//!
+//! **Desktop**: parse a POV-Ray scene, load the images its
+//! `height_field`s name, render rows and write them out as they come. The
+//! `render` example is this path as a command (`--threads`, `--rows`,
+//! TGA/PNG output); its `examples/harness` loads GIF, PNG, PGM, PPM, TGA
+//! and POT height fields. Here the image is generated instead:
+//!
+//! ```
+//! use std::ops::ControlFlow;
+//! use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
+//! use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb888, Samples};
+//!
+//! let text = r#"
+//!     #include "colors.inc"
+//!     camera { location <0.5, 0.7, -0.5> look_at <0.5, 0.1, 0.5> angle 60 }
+//!     light_source { <-2, 4, -3> color White }
+//!     background { color rgb <0.55, 0.7, 0.9> }
+//!     height_field {
+//!         pgm "terrain.pgm" smooth water_level 0.1
+//!         pigment { color rgb <0.5, 0.45, 0.35> }
+//!         finish { ambient 0.2 diffuse 0.8 }
+//!         scale <1, 0.3, 1>
+//!     }
+//! "#;
+//! let options = ParseOptions { image_width: 64, image_height: 48, ..ParseOptions::default() };
+//! // Up to 16 objects and 4 lights; warnings name LINE:COL.
+//! let scene: Scene<'_, 16, 4> = parse_scene(text, &options, &mut |w| eprintln!("warning: {w}"))
+//!     .unwrap_or_else(|e| panic!("scene.pov:{e}"));
+//!
+//! // "terrain.pgm": 8-bit gray, 65 × 65 (a program would read the file).
+//! let gray: Vec<u8> = (0..65 * 65)
+//!     .map(|i| {
+//!         let (x, z) = ((i % 65) as f32, (i / 65) as f32);
+//!         (128.0 + 90.0 * (x / 9.0).sin() * (z / 7.0).cos()) as u8
+//!     })
+//!     .collect();
+//! // One field per `field_index`, carrying its object's transform and water level.
+//! let mut fields = Vec::new();
+//! for object in &scene.objects {
+//!     if let Shape::HeightField { water_level, field_index, .. } = object.shape {
+//!         assert_eq!(field_index, fields.len());
+//!         let field = HeightField::new(Samples::U8(&gray), 65, 65, HeightConvention::Gray8)
+//!             .and_then(|f| f.with_water_level(water_level))
+//!             .expect("valid field")
+//!             .with_transform(object.transform);
+//!         fields.push(field);
+//!     }
+//! }
+//!
+//! let settings = RenderSettings::new(64, 48).with_aa(2); // 2 × 2 supersampling
+//! let mut line = vec![Rgb888::default(); 64];
+//! let mut ppm = b"P6 64 48 255\n".to_vec();
+//! let stats = render(&scene, &fields, &settings, &mut line, &mut |_y, row: &[Rgb888]| {
+//!     ppm.extend(row.iter().flat_map(|p| p.0)); // or write the row to a file
+//!     ControlFlow::Continue(())
+//! })
+//! .unwrap_or_else(|e| panic!("{e}"));
+//! assert_eq!(ppm.len(), 13 + 64 * 48 * 3);
+//! assert!(stats.hits > 0 && stats.cells > 0);
+//! ```
+//!
+//! # The layers
+//!
+//! From the bottom up; each module's docs give the details and formulas.
+//!
+//! **Height field** ([`heightfield`]). A [`HeightField`] *borrows* its
+//! samples ([`Samples::U8`] or [`Samples::U16`], row-major, image row 0
+//! first) and never copies them. Geometry follows POV-Ray 3.7: the grid
+//! spans the unit cube in object space, sample `(column c, row r)` of a
+//! `W × D` grid at `x = c/(W−1)`, `z = (D−1−r)/(D−1)` (image row 0 is the
+//! far edge), `y` by the [`HeightConvention`] (palette index / 256, gray8 ·
+//! 257 / 65536, or gray16 / 65536: heights are exact integers in units of
+//! 1/65536). Each cell is two triangles split along the diagonal joining
+//! its top-left and bottom-right image pixels; triangles are computed when
+//! a ray reaches them, never stored. An optional `water_level` removes
+//! everything below it, an optional 256-entry palette colours triangles by
+//! the mean of their vertices' colours (the thesis's colouring), and a
+//! [`Transform`] (POV-Ray's `scale`/`rotate`/`translate`, composed in `f64`)
+//! places the field in the world.
+//!
+//! **Traversal** ([`traversal`]). A ray is clipped to the field's box by
+//! slabs (Kay–Kajiya), then its `xz` projection walks the grid with an
+//! exact DDA that visits *every* cell the ray crosses, in order, including
+//! exact corner crossings; boundary parameters are recomputed from integer
+//! boundaries, never accumulated, so the walk cannot drift, skip or go
+//! backwards, and it runs at most `(W−1) + (D−1)` steps. Cells the ray
+//! passes above (or below, or under water) are skipped by comparing its
+//! entry and exit heights with the cell's corners. The walk is generic over
+//! [`Real`] (`f32`, `f64`).
+//!
+//! **Cell test** (internal). Inside a cell the ray's height above the
+//! surface, `g(t) = y(t) − h(u(t), v(t))`, is piecewise linear (one piece
+//! per triangle), so the hit is the first sign change of `g` at the entry,
+//! the diagonal crossing and the exit. A cell's exit value is computed by
+//! the same arithmetic from the same shared-edge heights as the next
+//! cell's entry value, so a hit cannot fall between two cells: the surface
+//! is **crack-free by construction**, with no epsilon, in any numeric type.
+//!
+//! **Shapes** ([`shapes`]). Planes, spheres, boxes, cylinders, cones and
+//! triangles, each intersected in its own object space and placed by its
+//! [`Transform`], so terrain can have water planes, skies and markers
+//! (cargo feature `primitives`, on by default; a height-field-only firmware
+//! leaves it out and pays no code for them).
+//!
+//! **Shading** ([`shading`]). Whitted ray tracing with POV-Ray 3.7's
+//! finish semantics — ambient, diffuse, phong, specular, reflection,
+//! filter/transmit — point lights with shadow rays, smooth normals as
+//! POV-Ray computes them, `max_trace_level` and `adc_bailout` as POV-Ray
+//! applies them. There is **no recursion**: the [`Tracer`] keeps pending
+//! rays on a 16-entry stack, so stack use is a constant whatever the
+//! scene's depth.
+//!
+//! **Camera** ([`camera`]). POV-Ray 3.7's perspective and orthographic
+//! cameras (`location`, `look_at`, `angle`, `right`, `up`, `direction`,
+//! `sky`, handedness included), pixel for pixel.
+//!
+//! **Scene** ([`scene`]). The scene model is plain data — camera, lights,
+//! background, objects with pigment and finish, global settings — in a
+//! [`Scene`](scene::Scene) whose capacities are const generics
+//! (`Scene<'src, OBJECTS, LIGHTS>`), so a build pays only for what its
+//! scenes need. Firmware fills one in code; [`parse_scene`](scene::parse_scene)
+//! reads a POV-Ray subset (including the thesis's own scene syntax) from a
+//! `&str` without allocating, borrowing names from the text, with errors
+//! and warnings as `LINE:COL: message`. Height-field *data* stays outside
+//! the scene: each `height_field` object has a `field_index` into the
+//! fields the caller passes to the renderer.
+//!
+//! **Render and sinks** ([`render`](mod@render), [`pixel`], [`sink`]).
+//! [`render()`] traces one row at a time into the caller's line buffer
+//! (exactly `width` pixels) and hands each finished row, with its `y`, to
+//! the caller's sink `FnMut(u32, &[P]) -> ControlFlow<()>`; the sink may
+//! stop the render. [`RenderSettings`] chooses the size, supersampling and
+//! the band of rows (`with_rows`), so threads or machines can split a frame
+//! and get the same pixels. The line buffer's [`Pixel`] format does the
+//! conversion as each pixel finishes: [`Rgb888`], [`Rgb565`] (SPI LCDs),
+//! [`Rgb565Dithered`], [`Indexed8`] (a fixed 256-colour palette,
+//! [`PALETTE_256`], with ordered dithering — VGA mode 13h) or
+//! [`LinearRgb`]. With the `embedded-graphics` feature,
+//! `sink::DrawTargetSink` feeds any `embedded-graphics` display driver.
+//! [`render_depth`] produces a depth image the same way.
+//!
+//! # Memory
+//!
+//! A render needs the samples (borrowed, wherever they are), the scene
+//! (its capacities fixed at compile time), one line buffer, and a constant
+//! amount of stack (the [`Tracer`], [`Tracer::SIZE`] bytes, plus the fixed
+//! frames of the walk and the shading loop): nothing grows with the image
+//! size, the field size or `max_trace_level`.
+//!
+//! # Conventions
+//!
+//! Colours are linear RGB (`glam::Vec3`, nominally `0..1`): a scene with
+//! `assumed_gamma 1.0` matches POV-Ray run with `File_Gamma=1.0`. Angles in
+//! scenes are degrees, as in POV-Ray; POV-Ray's coordinate system is
+//! left-handed with `y` up.
+//!
+//! # Cargo features
+//!
+//! - `primitives` (default): the analytic shapes of [`shapes`]; without
+//!   it a scene with one is an error naming the object.
+//! - `embedded-graphics`: [`sink`]'s `DrawTargetSink` for
+//!   `embedded-graphics-core` `DrawTarget`s (no_std).
+//! - `std`: enables nothing yet (reserved for `std::error::Error` impls);
+//!   the core never needs it.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -19,6 +272,7 @@ pub mod render;
 pub mod scene;
 pub mod shading;
 pub mod shapes;
+pub mod sink;
 pub mod transform;
 pub mod traversal;
 
@@ -26,7 +280,7 @@ pub use camera::{Camera, CameraError};
 pub use glam;
 pub use heapless;
 pub use heightfield::{HeightConvention, HeightField, HeightFieldError, Samples};
-pub use pixel::{LinearRgb, Pixel, Rgb888};
+pub use pixel::{Indexed8, LinearRgb, Pixel, Rgb565, Rgb565Dithered, Rgb888, PALETTE_256};
 pub use ray::{FieldHit, Ray, Triangle};
 pub use real::Real;
 pub use render::{render, render_depth, RenderError, RenderSettings, Stats};

@@ -3,9 +3,36 @@
 //! The renderer computes linear RGB (`Vec3`, nominally `0..1` per channel,
 //! no gamma: a scene with `assumed_gamma 1.0` compares with POV-Ray run with
 //! `File_Gamma=1.0`) and converts each finished pixel with
-//! [`Pixel::from_linear`]. The pixel's image coordinates are passed along
-//! so that formats with ordered dithering (RGB565, 256 colours) can be added
-//! without touching the renderer.
+//! [`Pixel::from_linear`], which also receives the pixel's image
+//! coordinates so that a format can dither. The line buffer is a
+//! `[P]` of the format the sink wants, so the same render feeds a 24-bit
+//! file, an RGB565 SPI display or a 256-colour VGA screen, with no frame
+//! buffer and no second conversion pass.
+//!
+//! | format | bytes | conversion from linear | back to 8-bit RGB |
+//! |---|---|---|---|
+//! | [`Rgb888`] | 3 | `floor(v·255 + ½)`, clamped | itself |
+//! | [`Rgb565`] | 2 | [`Rgb888`], then each channel to the nearest of 32/64/32 levels | [`Rgb565::to_rgb888`] |
+//! | [`Rgb565Dithered`] | 2 | [`Rgb888`], then 8×8 Bayer ordered dithering to 32/64/32 levels | [`Rgb565::to_rgb888`] |
+//! | [`Indexed8`] | 1 | [`Rgb888`], then 8×8 Bayer ordered dithering into [`PALETTE_256`] | [`Indexed8::to_rgb888`] |
+//! | [`LinearRgb`] | 12 | none (unclamped floats) | — |
+//!
+//! Every quantised format goes through [`Rgb888`] first, with integer
+//! arithmetic after that, so an `Rgb565` or `Indexed8` render is *exactly*
+//! the `Rgb888` render converted pixel by pixel ([`Rgb565::from_rgb888`],
+//! [`Indexed8::from_rgb888`]): the formats never disagree about a pixel
+//! beyond their own quantisation.
+//!
+//! # Ordered dithering
+//!
+//! Dithered formats quantise each channel `v` (8-bit, `0..=255`) to `m + 1`
+//! levels as `floor(v·m/255 + (2·B(x, y) + 1)/128)`, where `B` is the
+//! classic 8×8 Bayer matrix ([`BAYER_8X8`], values `0..64`) indexed by
+//! `(x mod 8, y mod 8)`. Over any aligned 8×8 tile of a flat colour the
+//! 64 thresholds are each used once, so the tile's mean reproduces `v` to
+//! within 1/128 of a level step (about 0.4 of an 8-bit step for the
+//! 6-level channels), and the pattern is the same whatever band or thread
+//! renders the pixel: it depends only on `(x, y)`.
 
 use glam::Vec3;
 
@@ -51,6 +78,283 @@ impl Pixel for LinearRgb {
     #[inline]
     fn from_linear(c: Vec3, _x: u32, _y: u32) -> Self {
         LinearRgb(c)
+    }
+}
+
+impl Rgb888 {
+    /// The colour as `[r, g, b]` bytes.
+    #[inline]
+    pub const fn to_bytes(self) -> [u8; 3] {
+        self.0
+    }
+}
+
+/// The 8×8 Bayer threshold matrix, `BAYER_8X8[y % 8][x % 8]`, values
+/// `0..64` each used once (see the [module docs](self#ordered-dithering)).
+pub const BAYER_8X8: [[u8; 8]; 8] = [
+    [0, 32, 8, 40, 2, 34, 10, 42],
+    [48, 16, 56, 24, 50, 18, 58, 26],
+    [12, 44, 4, 36, 14, 46, 6, 38],
+    [60, 28, 52, 20, 62, 30, 54, 22],
+    [3, 35, 11, 43, 1, 33, 9, 41],
+    [51, 19, 59, 27, 49, 17, 57, 25],
+    [15, 47, 7, 39, 13, 45, 5, 37],
+    [63, 31, 55, 23, 61, 29, 53, 21],
+];
+
+/// The Bayer threshold of pixel `(x, y)`, `0..64`.
+#[inline]
+pub const fn bayer_threshold(x: u32, y: u32) -> u8 {
+    BAYER_8X8[(y & 7) as usize][(x & 7) as usize]
+}
+
+/// `v` (`0..=255`) to the nearest of `m + 1` levels, `0..=m`
+/// (`floor(v·m/255 + ½)`, halves round up). `m` is at most 255.
+#[inline]
+pub const fn quantize_nearest(v: u8, m: u8) -> u8 {
+    // At most 2·255·255 + 255 < 2^17.
+    ((2 * v as u32 * m as u32 + 255) / 510) as u8
+}
+
+/// `v` (`0..=255`) to one of `m + 1` levels, `0..=m`, with ordered
+/// dithering at threshold `t` (`0..64`, see [`bayer_threshold`]):
+/// `floor(v·m/255 + (2t + 1)/128)`. `m` is at most 255.
+#[inline]
+pub const fn quantize_dithered(v: u8, m: u8, t: u8) -> u8 {
+    // v·m·128 + 127·255 < 2^24; the result never exceeds m because the
+    // added fraction is below 1.
+    let t = if t > 63 { 63 } else { t };
+    ((v as u32 * m as u32 * 128 + (2 * t as u32 + 1) * 255) / (255 * 128)) as u8
+}
+
+/// Level `q` of `m + 1` back to 8 bits: `floor(q·255/m + ½)` (so `0` is 0
+/// and `m` is 255). `q` is clamped to `m`; `m` must not be 0.
+#[inline]
+pub const fn expand_level(q: u8, m: u8) -> u8 {
+    let q = if q > m { m } else { q };
+    ((2 * q as u32 * 255 + m as u32) / (2 * m as u32)) as u8
+}
+
+/// 16-bit RGB565 as SPI LCD controllers (ST7735, ST7789, ILI9341, ...)
+/// take it: red in bits 15–11, green in 10–5, blue in 4–0.
+///
+/// Each channel is the nearest of 32 (red, blue) or 64 (green) levels to
+/// the pixel's [`Rgb888`] value ([`quantize_nearest`]); no dithering (see
+/// [`Rgb565Dithered`]). Most controllers want the high byte first on the
+/// wire: send `p.0.to_be_bytes()`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub struct Rgb565(pub u16);
+
+impl Rgb565 {
+    /// Packs 5-bit red, 6-bit green and 5-bit blue levels (excess bits are
+    /// dropped).
+    #[inline]
+    pub const fn from_levels(r: u8, g: u8, b: u8) -> Self {
+        Rgb565((((r & 0x1f) as u16) << 11) | (((g & 0x3f) as u16) << 5) | (b & 0x1f) as u16)
+    }
+
+    /// The 5/6/5-bit levels `(r, g, b)`.
+    #[inline]
+    pub const fn levels(self) -> (u8, u8, u8) {
+        (
+            (self.0 >> 11) as u8,
+            ((self.0 >> 5) & 0x3f) as u8,
+            (self.0 & 0x1f) as u8,
+        )
+    }
+
+    /// The nearest RGB565 colour to an 8-bit colour.
+    #[inline]
+    pub const fn from_rgb888(c: Rgb888) -> Self {
+        let [r, g, b] = c.0;
+        Rgb565::from_levels(
+            quantize_nearest(r, 31),
+            quantize_nearest(g, 63),
+            quantize_nearest(b, 31),
+        )
+    }
+
+    /// The 8-bit colour this pixel shows (each level scaled to the nearest
+    /// 8-bit value, [`expand_level`]).
+    #[inline]
+    pub const fn to_rgb888(self) -> Rgb888 {
+        let (r, g, b) = self.levels();
+        Rgb888([
+            expand_level(r, 31),
+            expand_level(g, 63),
+            expand_level(b, 31),
+        ])
+    }
+}
+
+impl Pixel for Rgb565 {
+    #[inline]
+    fn from_linear(c: Vec3, x: u32, y: u32) -> Self {
+        Rgb565::from_rgb888(Rgb888::from_linear(c, x, y))
+    }
+}
+
+impl From<Rgb565> for Rgb888 {
+    fn from(p: Rgb565) -> Self {
+        p.to_rgb888()
+    }
+}
+
+/// RGB565 with 8×8 ordered dithering: the same bits as [`Rgb565`] (the
+/// inner value), but each channel is dithered from the pixel's [`Rgb888`]
+/// value ([`quantize_dithered`]) so smooth gradients (skies, haze) show no
+/// 5-bit banding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub struct Rgb565Dithered(pub Rgb565);
+
+impl Rgb565Dithered {
+    /// The 8-bit colour `c` dithered for pixel `(x, y)`.
+    #[inline]
+    pub const fn from_rgb888(c: Rgb888, x: u32, y: u32) -> Self {
+        let t = bayer_threshold(x, y);
+        let [r, g, b] = c.0;
+        Rgb565Dithered(Rgb565::from_levels(
+            quantize_dithered(r, 31, t),
+            quantize_dithered(g, 63, t),
+            quantize_dithered(b, 31, t),
+        ))
+    }
+
+    /// The 8-bit colour this pixel shows.
+    #[inline]
+    pub const fn to_rgb888(self) -> Rgb888 {
+        self.0.to_rgb888()
+    }
+}
+
+impl Pixel for Rgb565Dithered {
+    #[inline]
+    fn from_linear(c: Vec3, x: u32, y: u32) -> Self {
+        Rgb565Dithered::from_rgb888(Rgb888::from_linear(c, x, y), x, y)
+    }
+}
+
+impl From<Rgb565Dithered> for Rgb565 {
+    fn from(p: Rgb565Dithered) -> Self {
+        p.0
+    }
+}
+
+/// Levels of red, green and blue in [`PALETTE_256`]'s colour cube.
+pub const CUBE_LEVELS: [u8; 3] = [6, 7, 6];
+
+/// Index of the first of the four extra grays in [`PALETTE_256`].
+pub const PALETTE_GRAYS_START: u8 = 252;
+
+/// The fixed 256-colour palette of [`Indexed8`], as `[r, g, b]` 8-bit
+/// values (the same linear code values as [`Rgb888`]).
+///
+/// - Indices `0..252`: a 6×7×6 colour cube, index `42·r + 6·g + b` for
+///   levels `r, b` in `0..6` and `g` in `0..7` (green gets the extra level:
+///   the eye resolves it best). Level `k` of `n` is `floor(k·255/(n−1) + ½)`:
+///   red and blue 0, 51, 102, 153, 204, 255; green 0, 43, 85, 128, 170, 213,
+///   255.
+/// - Indices `252..256`: the grays 51, 102, 153, 204, which the cube lacks
+///   (its green levels differ). [`Indexed8`] uses them for exactly those
+///   grays, so a flat gray shows no green dither pattern.
+///
+/// Black is index 0 and white index 251. For VGA mode 13h, load
+/// [`PALETTE_256_VGA`] (6-bit DAC values) through ports `0x3C8`/`0x3C9`.
+pub const PALETTE_256: [[u8; 3]; 256] = build_palette();
+
+/// [`PALETTE_256`] as 6-bit VGA DAC values (`floor(v·63/255 + ½)`),
+/// ready to write to port `0x3C9` after `0` to port `0x3C8`.
+pub const PALETTE_256_VGA: [[u8; 3]; 256] = build_vga_palette();
+
+const fn build_palette() -> [[u8; 3]; 256] {
+    let [nr, ng, nb] = CUBE_LEVELS;
+    let mut p = [[0u8; 3]; 256];
+    let mut r = 0;
+    // Bounded: 6 × 7 × 6 iterations.
+    while r < nr {
+        let mut g = 0;
+        while g < ng {
+            let mut b = 0;
+            while b < nb {
+                let i = (r as usize * ng as usize + g as usize) * nb as usize + b as usize;
+                p[i] = [
+                    expand_level(r, nr - 1),
+                    expand_level(g, ng - 1),
+                    expand_level(b, nb - 1),
+                ];
+                b += 1;
+            }
+            g += 1;
+        }
+        r += 1;
+    }
+    let mut k = 0;
+    while k < 4 {
+        let v = 51 * (k as u8 + 1);
+        p[PALETTE_GRAYS_START as usize + k] = [v, v, v];
+        k += 1;
+    }
+    p
+}
+
+const fn build_vga_palette() -> [[u8; 3]; 256] {
+    let mut p = PALETTE_256;
+    let mut i = 0;
+    while i < 256 {
+        let mut c = 0;
+        while c < 3 {
+            p[i][c] = quantize_nearest(p[i][c], 63);
+            c += 1;
+        }
+        i += 1;
+    }
+    p
+}
+
+/// An index into the fixed [`PALETTE_256`], chosen by 8×8 ordered
+/// dithering: for VGA mode 13h (320×200, one byte per pixel) and other
+/// 8-bit indexed displays.
+///
+/// From the pixel's [`Rgb888`] value, each channel is dithered to the
+/// cube's levels ([`quantize_dithered`] with 5, 6 and 5 steps and the same
+/// Bayer threshold for all three), except that the exact grays 51, 102,
+/// 153 and 204 map to their own palette entries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub struct Indexed8(pub u8);
+
+impl Indexed8 {
+    /// The 8-bit colour `c` dithered for pixel `(x, y)`.
+    #[inline]
+    pub const fn from_rgb888(c: Rgb888, x: u32, y: u32) -> Self {
+        let [r, g, b] = c.0;
+        if r == g && g == b && r != 0 && r != 255 && r % 51 == 0 {
+            return Indexed8(PALETTE_GRAYS_START + r / 51 - 1);
+        }
+        let [nr, ng, nb] = CUBE_LEVELS;
+        let t = bayer_threshold(x, y);
+        let qr = quantize_dithered(r, nr - 1, t);
+        let qg = quantize_dithered(g, ng - 1, t);
+        let qb = quantize_dithered(b, nb - 1, t);
+        Indexed8((qr * ng + qg) * nb + qb)
+    }
+
+    /// The palette colour of this index.
+    #[inline]
+    pub const fn to_rgb888(self) -> Rgb888 {
+        Rgb888(PALETTE_256[self.0 as usize])
+    }
+}
+
+impl Pixel for Indexed8 {
+    #[inline]
+    fn from_linear(c: Vec3, x: u32, y: u32) -> Self {
+        Indexed8::from_rgb888(Rgb888::from_linear(c, x, y), x, y)
+    }
+}
+
+impl From<Indexed8> for Rgb888 {
+    fn from(p: Indexed8) -> Self {
+        p.to_rgb888()
     }
 }
 

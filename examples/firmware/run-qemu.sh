@@ -1,17 +1,26 @@
 #!/usr/bin/env bash
 # Builds and runs hfray's firmware scene on every target and compares each
-# frame with the host reference render. One line per target:
+# frame with the host reference render. One line per target and scene:
 #
 #   target=T frame_checksum=HEX host_checksum=HEX stack_bytes=N text_bytes=N instructions=N [extras]
 #
-# Targets:
+# Targets (T; the first line of each is the issue-5 frame, scene `base`):
 #   thumbv6m-none-eabi/microbit        qemu-system-arm -machine microbit   (Cortex-M0, soft-float)
 #   thumbv7em-none-eabihf/mps2-an386   qemu-system-arm -machine mps2-an386 (Cortex-M4F)
 #   i586-unknown-linux-gnu/i486        qemu-i386 -cpu 486 (x87), and the same ELF natively
 #                                      under `ulimit -v 8192; ulimit -s 64`
+# and, for each, the scene variants (T gets a suffix):
+#   T:reflect-1, T:reflect-5           height-field-only build, the field as a mirror
+#                                      at max_trace_level 1 and 5 (stack vs depth)
+#   T+full, T+full:plane-1, T+full:plane-5
+#                                      the `full` build (hfray's primitives): its .text,
+#                                      and a reflective plane under the field at depth 1, 5
+# `--base` runs the base scene of the height-field-only build only.
 #
 # Exits non-zero if a tool or target is missing (saying which), a build or
-# run fails, or any frame differs from the host's (checksum and bytes).
+# run fails, or any frame differs from the host's (checksum and bytes) or
+# any work counter (hits, rays, cells, triangle tests) differs from the
+# host's.
 # Installs nothing. Needs: cargo, rust targets thumbv6m-none-eabi,
 # thumbv7em-none-eabihf, i586-unknown-linux-gnu; qemu-system-arm (Debian
 # package qemu-system-arm), qemu-i386 (qemu-user); gcc (builds the QEMU
@@ -20,6 +29,16 @@
 # Output files (frames as PPM, instruction dumps, logs) go to $OUT
 # (default: <repo>/target/firmware-run).
 set -euo pipefail
+
+all=1
+case "${1:-}" in
+"") ;;
+--base) all=0 ;;
+*)
+    echo "usage: run-qemu.sh [--base]" >&2
+    exit 2
+    ;;
+esac
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -71,28 +90,39 @@ mkdir -p "$out"
 log="$out/build.log"
 : >"$log"
 
-# --- builds ---------------------------------------------------------------
-echo "run-qemu.sh: building (log: $log)" >&2
-(cd "$root" && cargo build --release --example firmware_host) >>"$log" 2>&1 ||
-    { echo "run-qemu.sh: host reference build failed (see $log)" >&2; tail -20 "$log" >&2; exit 1; }
-(cd "$here" && cargo build --release --target thumbv6m-none-eabi --target thumbv7em-none-eabihf) >>"$log" 2>&1 ||
-    { echo "run-qemu.sh: Cortex-M firmware build failed (see $log)" >&2; tail -20 "$log" >&2; exit 1; }
-(cd "$here/i486" && cargo build --release --target i586-unknown-linux-gnu) >>"$log" 2>&1 ||
-    { echo "run-qemu.sh: i486 build failed (see $log)" >&2; tail -20 "$log" >&2; exit 1; }
-plugin="$out/libinsn_count.so"
-gcc -O2 -shared -fPIC -fvisibility=hidden -o "$plugin" "$here/tools/qemu-insn-count/insn_count.c" >>"$log" 2>&1 ||
-    { echo "run-qemu.sh: building the instruction-count plugin failed (see $log)" >&2; exit 1; }
-
-# Where cargo put things (honours CARGO_TARGET_DIR and config files).
+# Where cargo puts things (honours CARGO_TARGET_DIR and config files).
 target_dir() {
     (cd "$1" && cargo metadata --format-version 1 --no-deps) |
         sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p'
 }
 host_bin="$(target_dir "$root")/release/examples/firmware_host"
 fw_dir="$(target_dir "$here")"
-i486_bin="$(target_dir "$here/i486")/i586-unknown-linux-gnu/release/hfray-i486"
+i486_dir="$(target_dir "$here/i486")"
+# The `full` builds go to their own target directories, so both binaries
+# of each target exist side by side.
+fw_full_dir="$fw_dir/full"
+i486_full_dir="$i486_dir/full"
+
+# --- builds ---------------------------------------------------------------
+echo "run-qemu.sh: building (log: $log)" >&2
+build() {
+    local what="$1"
+    shift
+    "$@" >>"$log" 2>&1 || { echo "run-qemu.sh: $what build failed (see $log)" >&2; tail -20 "$log" >&2; exit 1; }
+}
+build "host reference" bash -c "cd '$root' && cargo build --release --example firmware_host"
+build "Cortex-M firmware" bash -c "cd '$here' && cargo build --release --target thumbv6m-none-eabi --target thumbv7em-none-eabihf"
+build "i486" bash -c "cd '$here/i486' && cargo build --release --target i586-unknown-linux-gnu"
+if ((all)); then
+    build "Cortex-M firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv6m-none-eabi --target thumbv7em-none-eabihf"
+    build "i486 (full)" bash -c "cd '$here/i486' && cargo build --release --features full --target-dir '$i486_full_dir' --target i586-unknown-linux-gnu"
+fi
+plugin="$out/libinsn_count.so"
+build "instruction-count plugin" gcc -O2 -shared -fPIC -fvisibility=hidden -o "$plugin" "$here/tools/qemu-insn-count/insn_count.c"
+
 for f in "$host_bin" "$fw_dir/thumbv6m-none-eabi/release/hfray-firmware" \
-    "$fw_dir/thumbv7em-none-eabihf/release/hfray-firmware" "$i486_bin"; do
+    "$fw_dir/thumbv7em-none-eabihf/release/hfray-firmware" \
+    "$i486_dir/i586-unknown-linux-gnu/release/hfray-i486"; do
     [[ -f "$f" ]] || { echo "run-qemu.sh: built file not found: $f" >&2; exit 1; }
 done
 
@@ -110,78 +140,162 @@ section_size() {
     hex="$(readelf -S -W "$1" | awk -v s="$2" '{for (i = 1; i <= NF; i++) if ($i == s) {print $(i + 4); exit}}')"
     if [[ -n "$hex" ]]; then echo $((16#$hex)); else echo "?"; fi
 }
+# image_bytes ELF: bytes the program image occupies (allocated sections with
+# contents: vector table, .text, .rodata, .data, ...; not .bss). On the
+# Cortex-M boards that is the flash used.
+image_bytes() {
+    local hex sum=0
+    for hex in $(readelf -S -W "$1" | awk '
+        /^ *\[ *[0-9]+\]/ {
+            sub(/^ *\[ *[0-9]+\] */, "")
+            if ($2 != "NOBITS" && $2 != "NULL" && $7 ~ /A/) print $5
+        }'); do
+        sum=$((sum + 16#$hex))
+    done
+    echo "$sum"
+}
+# The work counters every program prints; they must equal the host's.
+work_keys=(hits reflected_rays shadow_rays shadow_hits cells triangle_tests dropped_rays)
+work() {
+    local k w=""
+    for k in "${work_keys[@]}"; do w+=" $k=$(field "$k" "$1")"; done
+    echo "${w# }"
+}
 
-# --- host reference ---------------------------------------------------------
-host_line="$(cd "$out" && "$host_bin" "$out/frame-host.ppm")" || { echo "run-qemu.sh: host reference failed" >&2; exit 1; }
-host_sum="$(field host_checksum "$host_line")"
-[[ -n "$host_sum" ]] || { echo "run-qemu.sh: no host checksum in: $host_line" >&2; exit 1; }
+# --- host reference, one frame per scene --------------------------------------
+declare -A host_sum host_work
+host() {
+    local scene="$1" line
+    line="$(cd "$out" && "$host_bin" --scene "$scene" "$out/frame-host-$scene.ppm")" ||
+        { echo "run-qemu.sh: host reference failed for scene $scene" >&2; exit 1; }
+    host_sum[$scene]="$(field host_checksum "$line")"
+    host_work[$scene]="$(work "$line")"
+    [[ -n "${host_sum[$scene]}" ]] || { echo "run-qemu.sh: no host checksum in: $line" >&2; exit 1; }
+}
+scenes=(base)
+((all)) && scenes+=(reflect-1 reflect-5 plane-1 plane-5)
+for s in "${scenes[@]}"; do host "$s"; done
+cp "$out/frame-host-base.ppm" "$out/frame-host.ppm"
 
-# compare TARGET LINE PPM: checks the checksum and the frame bytes.
+# compare WHAT SCENE LINE PPM: checks the checksum, the frame bytes and the
+# work counters against the host's.
 compare() {
-    local t="$1" line="$2" ppm="$3" sum
+    local t="$1" scene="$2" line="$3" ppm="$4" sum
     sum="$(field frame_checksum "$line")"
     if [[ -z "$sum" ]]; then
         fail "$t printed no checksum: $line"
-    elif [[ "$sum" != "$host_sum" ]]; then
-        fail "$t frame checksum $sum != host $host_sum"
-    elif ! cmp -s "$ppm" "$out/frame-host.ppm"; then
+    elif [[ "$sum" != "${host_sum[$scene]}" ]]; then
+        fail "$t frame checksum $sum != host ${host_sum[$scene]}"
+    elif ! cmp -s "$ppm" "$out/frame-host-$scene.ppm"; then
         fail "$t frame bytes differ from the host frame ($ppm)"
+    elif [[ "$(work "$line")" != "${host_work[$scene]}" ]]; then
+        fail "$t work counters differ from the host's: $(work "$line") != ${host_work[$scene]}"
     fi
 }
+# Output name of a run: target, +full for the full build, :scene unless base.
+label() {
+    local l="$1"
+    [[ "$2" == full ]] && l+="+full"
+    [[ "$3" != base ]] && l+=":$3"
+    echo "$l"
+}
+# Frames of runs other than the hf-only base keep their scene in the name.
+frame_name() {
+    local board="$1" build="$2" scene="$3"
+    if [[ "$build" == hf && "$scene" == base ]]; then
+        echo "frame-$board.ppm"
+    else
+        echo "frame-$board-$build-$scene.ppm"
+    fi
+}
+# Each run writes its frame into this scratch directory (the programs'
+# working directory); the frame is then moved to its name in $out.
+scratch="$out/scratch"
+# The runs: build (hf = height-field only, full) and scene.
+runs=("hf base")
+((all)) && runs+=("hf reflect-1" "hf reflect-5" "full base" "full plane-1" "full plane-5")
 
 # --- Cortex-M under qemu-system-arm ----------------------------------------
 for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
     triple="${pair%%:*}"
     board="${pair##*:}"
-    elf="$fw_dir/$triple/release/hfray-firmware"
-    rm -f "$out/frame-$board.ppm"
-    if ! line="$(cd "$out" && timeout "$run_timeout" qemu-system-arm -machine "$board" -nographic \
-        -semihosting-config enable=on,target=native \
-        -plugin "$plugin,out=$out/insns-$board.txt" -d plugin -D "$out/qemu-$board.log" \
-        -kernel "$elf")"; then
-        fail "$board: qemu-system-arm exited non-zero: $line"
-        continue
-    fi
-    compare "$triple/$board" "$line" "$out/frame-$board.ppm"
-    insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$board.log")"
-    vfp="$(sed -n 's/.*vfp(cp10\/11)=\([0-9]*\).*/\1/p' "$out/qemu-$board.log")"
-    echo "target=$triple/$board frame_checksum=$(field frame_checksum "$line") host_checksum=$host_sum" \
-        "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
-        "instructions=${insns:-?} vfp_instructions=${vfp:-?} rodata_bytes=$(section_size "$elf" .rodata)" \
-        "stack_limit_bytes=$(field stack_limit_bytes "$line") render_stack_bytes=$(field render_stack_bytes "$line")"
+    for r in "${runs[@]}"; do
+        read -r build scene <<<"$r"
+        if [[ "$build" == full ]]; then elf="$fw_full_dir/$triple/release/hfray-firmware"; else elf="$fw_dir/$triple/release/hfray-firmware"; fi
+        t="$(label "$triple/$board" "$build" "$scene")"
+        tag="$board-$build-$scene"
+        ppm="$out/$(frame_name "$board" "$build" "$scene")"
+        rm -rf "$scratch" && mkdir -p "$scratch"
+        if ! line="$(cd "$scratch" && timeout "$run_timeout" qemu-system-arm -machine "$board" -nographic \
+            -semihosting-config "enable=on,target=native,arg=hfray-firmware,arg=$scene" \
+            -plugin "$plugin,out=$out/insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" \
+            -kernel "$elf")"; then
+            fail "$t: qemu-system-arm exited non-zero: $line"
+            continue
+        fi
+        mv -f "$scratch/frame-$board.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
+        compare "$t" "$scene" "$line" "$ppm"
+        insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+        vfp="$(sed -n 's/.*vfp(cp10\/11)=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+        echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[$scene]}" \
+            "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
+            "instructions=${insns:-?} vfp_instructions=${vfp:-?} rodata_bytes=$(section_size "$elf" .rodata)" \
+            "image_bytes=$(image_bytes "$elf") stack_limit_bytes=$(field stack_limit_bytes "$line")" \
+            "render_stack_bytes=$(field render_stack_bytes "$line") render_peak_stack_bytes=$(field render_peak_stack_bytes "$line")" \
+            "setup_stack_bytes=$(field setup_stack_bytes "$line")" \
+            "model_bytes=$(field model_bytes "$line") heightfield_bytes=$(field heightfield_bytes "$line")" \
+            "tracer_bytes=$(field tracer_bytes "$line") line_bytes=$(field line_bytes "$line")" \
+            "scene=$scene build=$build $(work "$line")"
+    done
 done
 
 # --- i486: qemu-i386 -cpu 486 (instruction set, counts) and native (8 MiB) ---
-rm -f "$out/frame-i486.ppm"
-if ! line="$(cd "$out" && timeout "$run_timeout" qemu-i386 -cpu 486 \
-    -plugin "$plugin,out=$out/insns-i486.txt" -d plugin -D "$out/qemu-i486.log" "$i486_bin")"; then
-    fail "i486: qemu-i386 -cpu 486 exited non-zero: $line"
-else
-    compare "i586-unknown-linux-gnu/i486 (qemu-i386 -cpu 486)" "$line" "$out/frame-i486.ppm"
-fi
-insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-i486.log")"
-x87="$(sed -n 's/.*x87(D8-DF,9B)=\([0-9]*\).*/\1/p' "$out/qemu-i486.log")"
-# The same ELF run directly by the kernel with an 8 MiB address-space cap
-# and a 64 KiB stack cap (QEMU itself cannot run under such a cap: it maps a
-# 128 MiB code buffer and reserves the guest's 4 GiB space).
-rm -f "$out/frame-i486.ppm"
-if ! native="$(cd "$out" && ulimit -v 8192 && ulimit -s 64 && timeout "$run_timeout" "$i486_bin" 2>&1)"; then
-    fail "i486 native run under ulimit -v 8192 -s 64 failed (does this kernel run i386 ELF files?): $native"
-else
-    compare "i586-unknown-linux-gnu/i486 (native, ulimit -v 8192)" "$native" "$out/frame-i486.ppm"
-fi
-rss="?"
-if [[ -x /usr/bin/time ]]; then
-    rss="$(cd "$out" && { /usr/bin/time -f 'maxrss_kib=%M' "$i486_bin" >/dev/null; } 2>&1 | sed -n 's/^maxrss_kib=//p')"
-fi
-echo "target=i586-unknown-linux-gnu/i486 frame_checksum=$(field frame_checksum "$line") host_checksum=$host_sum" \
-    "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$i486_bin" .text)" \
-    "instructions=${insns:-?} x87_instructions=${x87:-?} other_instructions=$(( ${insns:-0} - ${x87:-0} ))" \
-    "rodata_bytes=$(section_size "$i486_bin" .rodata) render_stack_bytes=$(field render_stack_bytes "$line") native_8MiB_checksum=$(field frame_checksum "$native") max_rss_kib=${rss:-?}"
+for r in "${runs[@]}"; do
+    read -r build scene <<<"$r"
+    if [[ "$build" == full ]]; then d="$i486_full_dir"; else d="$i486_dir"; fi
+    i486_bin="$d/i586-unknown-linux-gnu/release/hfray-i486"
+    t="$(label "i586-unknown-linux-gnu/i486" "$build" "$scene")"
+    tag="i486-$build-$scene"
+    ppm="$out/$(frame_name i486 "$build" "$scene")"
+    rm -rf "$scratch" && mkdir -p "$scratch"
+    if ! line="$(cd "$scratch" && timeout "$run_timeout" qemu-i386 -cpu 486 \
+        -plugin "$plugin,out=$out/insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" "$i486_bin" "$scene")"; then
+        fail "$t: qemu-i386 -cpu 486 exited non-zero: $line"
+        continue
+    fi
+    mv -f "$scratch/frame-i486.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
+    compare "$t (qemu-i386 -cpu 486)" "$scene" "$line" "$ppm"
+    insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+    x87="$(sed -n 's/.*x87(D8-DF,9B)=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+    # The same ELF run directly by the kernel with an 8 MiB address-space cap
+    # and a 64 KiB stack cap (QEMU itself cannot run under such a cap: it maps
+    # a 128 MiB code buffer and reserves the guest's 4 GiB space). The program
+    # reports its own VmPeak/VmHWM (under QEMU those would be QEMU's).
+    if ! native="$(cd "$scratch" && ulimit -v 8192 && ulimit -s 64 && timeout "$run_timeout" "$i486_bin" "$scene" 2>&1)"; then
+        fail "$t: native run under ulimit -v 8192 -s 64 failed (does this kernel run i386 ELF files?): $native"
+    else
+        compare "$t (native, ulimit -v 8192)" "$scene" "$native" "$scratch/frame-i486.ppm"
+    fi
+    rss="?"
+    if [[ -x /usr/bin/time ]]; then
+        rss="$(cd "$scratch" && { /usr/bin/time -f 'maxrss_kib=%M' "$i486_bin" "$scene" >/dev/null; } 2>&1 | sed -n 's/^maxrss_kib=//p')"
+    fi
+    echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[$scene]}" \
+        "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$i486_bin" .text)" \
+        "instructions=${insns:-?} x87_instructions=${x87:-?} other_instructions=$((${insns:-0} - ${x87:-0}))" \
+        "rodata_bytes=$(section_size "$i486_bin" .rodata) image_bytes=$(image_bytes "$i486_bin")" \
+        "render_stack_bytes=$(field render_stack_bytes "$line") render_peak_stack_bytes=$(field render_peak_stack_bytes "$line")" \
+            "setup_stack_bytes=$(field setup_stack_bytes "$line")" \
+        "model_bytes=$(field model_bytes "$line") heightfield_bytes=$(field heightfield_bytes "$line")" \
+        "tracer_bytes=$(field tracer_bytes "$line") line_bytes=$(field line_bytes "$line")" \
+        "native_8MiB_checksum=$(field frame_checksum "$native") vm_peak_kib=$(field vm_peak_kib "$native")" \
+        "vm_hwm_kib=$(field vm_hwm_kib "$native") max_rss_kib=${rss:-?}" \
+        "scene=$scene build=$build $(work "$line")"
+done
 
 if ((status)); then
     echo "run-qemu.sh: FAILED (outputs in $out)" >&2
 else
-    echo "run-qemu.sh: all frames match the host (outputs in $out)" >&2
+    echo "run-qemu.sh: all frames and work counters match the host (outputs in $out)" >&2
 fi
 exit "$status"

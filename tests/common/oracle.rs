@@ -14,6 +14,10 @@ pub struct OracleField {
     heights: Vec<f64>,
     /// World-space vertices, same order.
     world: Vec<DVec3>,
+    /// World-space bounds of each cell's four vertices (index z·(w−1)+x),
+    /// a cheap reject before the triangle tests; it only skips cells the
+    /// ray's line misses by more than `eps`, so verdicts are unchanged.
+    cell_bounds: Vec<(DVec3, DVec3)>,
     pub water: f64,
 }
 
@@ -81,11 +85,22 @@ impl OracleField {
                 world.push(to_world.transform_point3(p));
             }
         }
+        let mut cell_bounds = Vec::with_capacity(((width - 1) * (depth - 1)) as usize);
+        for z in 0..depth - 1 {
+            for x in 0..width - 1 {
+                let corners = [(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]
+                    .map(|(a, b)| world[(b * width + a) as usize]);
+                let lo = corners.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
+                let hi = corners.iter().fold(DVec3::NEG_INFINITY, |m, p| m.max(*p));
+                cell_bounds.push((lo, hi));
+            }
+        }
         OracleField {
             width,
             depth,
             heights,
             world,
+            cell_bounds,
             water,
         }
     }
@@ -102,6 +117,10 @@ impl OracleField {
         let dl = d.length();
         for z in 0..self.depth - 1 {
             for x in 0..self.width - 1 {
+                let (lo, hi) = self.cell_bounds[(z * (self.width - 1) + x) as usize];
+                if !line_near_box(o, d, lo, hi, t_min, t_max, eps) {
+                    continue;
+                }
                 let v00 = self.idx(x, z);
                 let v10 = self.idx(x + 1, z);
                 let v01 = self.idx(x, z + 1);
@@ -185,4 +204,40 @@ impl OracleField {
             ambiguous,
         }
     }
+}
+
+/// Whether the ray's segment `[t_min, t_max]` comes within a margin of the
+/// box (slabs in f64, the box grown by `eps` of its size plus a hair).
+fn line_near_box(
+    o: DVec3,
+    d: DVec3,
+    lo: DVec3,
+    hi: DVec3,
+    t_min: f64,
+    t_max: f64,
+    eps: f64,
+) -> bool {
+    let grow = (hi - lo).max_element().max(1e-300) * (eps * 10.0 + 1e-9) + 1e-12;
+    let (lo, hi) = (lo - DVec3::splat(grow), hi + DVec3::splat(grow));
+    let (mut a, mut b) = (t_min, t_max);
+    for k in 0..3 {
+        if d[k] == 0.0 {
+            if o[k] < lo[k] || o[k] > hi[k] {
+                return false;
+            }
+            continue;
+        }
+        let (mut t0, mut t1) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+        if t0 > t1 {
+            std::mem::swap(&mut t0, &mut t1);
+        }
+        // Widen by the near-miss band the verdict looks at.
+        let pad = (t0.abs().max(t1.abs()) + 1.0) * eps * 10.0;
+        a = a.max(t0 - pad);
+        b = b.min(t1 + pad);
+        if a > b {
+            return false;
+        }
+    }
+    true
 }

@@ -4,6 +4,11 @@
 //! to the host through semihosting, and reports the frame checksum and the
 //! stack high-water mark.
 //!
+//! The scene variant (`scene::VARIANTS`: `base`, `reflect-1`, …) is the
+//! last word of the semihosting command line (`SYS_GET_CMDLINE`; QEMU:
+//! `-semihosting-config enable=on,target=native,arg=hfray-firmware,arg=NAME`),
+//! `base` without one.
+//!
 //! No `std`, no allocator, no frame buffer: the only frame-sized state is one
 //! scanline (96 `Rgb888` pixels plus their 288 bytes) on the stack.
 //!
@@ -15,13 +20,15 @@
 //!
 //! Output: the frame as a binary PPM in the host file `frame-BOARD.ppm`
 //! (QEMU's working directory), and one line on the host's stdout:
-//! `board=B frame_checksum=HEX stack_bytes=N render_stack_bytes=N stack_limit_bytes=N hits=N ...`.
+//! `board=B scene=NAME frame_checksum=HEX stack_bytes=N render_stack_bytes=N
+//! render_peak_stack_bytes=N setup_stack_bytes=N stack_limit_bytes=N model_bytes=N ... hits=N ...`.
 //! Exits QEMU through semihosting (`SYS_EXIT`), non-zero on any failure.
 //!
 //! # Unsafe code (firmware crate only; the hfray core forbids it)
-//! - Semihosting file I/O (`SYS_OPEN`/`SYS_WRITE`/`SYS_CLOSE`): a `bkpt 0xAB`
-//!   trap that reads our buffers by address; `cortex-m-semihosting` offers
-//!   no safe file API, so [`HostFile`] wraps the three raw calls.
+//! - Semihosting file I/O (`SYS_OPEN`/`SYS_WRITE`/`SYS_CLOSE`) and
+//!   `SYS_GET_CMDLINE`: a `bkpt 0xAB` trap that reads or fills our buffers
+//!   by address; `cortex-m-semihosting` offers no safe API for these, so
+//!   [`HostFile`] and [`command_line`] wrap the raw calls.
 //! - Stack high-water: cortex-m-rt's `paint-stack` feature fills the RAM
 //!   between `_stack_end` (end of `.bss`) and `_stack_start` (initial SP)
 //!   with `0xCCCC_CCCC` in the reset handler, before `main`. After the render
@@ -95,6 +102,26 @@ impl HostFile {
     }
 }
 
+/// Bytes of command line [`command_line`] can hold.
+const CMDLINE_BYTES: usize = 64;
+
+/// The semihosting command line (`SYS_GET_CMDLINE`), or an empty one if
+/// the host gives none. The returned slice borrows `buf`.
+fn command_line(buf: &mut [u8; CMDLINE_BYTES]) -> &[u8] {
+    // Parameter block: buffer address and its size; the host writes the
+    // line (NUL-terminated) and replaces the size with the line's length.
+    let mut block = [buf.as_mut_ptr() as usize, CMDLINE_BYTES];
+    // SAFETY: the host writes at most `CMDLINE_BYTES` bytes into `buf` and
+    // one word into `block`, both live and exclusively ours for the call.
+    let status =
+        unsafe { cortex_m_semihosting::syscall1(nr::GET_CMDLINE, block.as_mut_ptr() as usize) };
+    if status != 0 {
+        return &[];
+    }
+    let len = block[1].min(CMDLINE_BYTES);
+    &buf[..len]
+}
+
 extern "C" {
     /// Initial stack pointer (top of RAM), from cortex-m-rt's `link.x`.
     static _stack_start: u32;
@@ -164,7 +191,15 @@ fn fail() -> ! {
 #[entry]
 fn main() -> ! {
     let mut out = stdout();
-    let model = match scene::build_scene() {
+    let mut cmdline = [0u8; CMDLINE_BYTES];
+    let variant = match scene::variant_from_cmdline(command_line(&mut cmdline)) {
+        Some(v) => v,
+        None => {
+            let _ = writeln!(out, "board={BOARD} error=unknown-scene");
+            fail()
+        }
+    };
+    let model = match scene::build_scene(variant) {
         Ok(s) => s,
         Err(e) => {
             let _ = writeln!(out, "board={BOARD} error=scene:{e:?}");
@@ -219,19 +254,24 @@ fn main() -> ! {
     let limit = top - core::ptr::addr_of!(_stack_end) as usize;
     // Whole program: reset handler, main's frame, the deepest call below.
     let used = top - setup_low.min(render_low);
+    // Setup alone (scene, field, file): reset to the deepest setup call.
+    let setup_used = top - setup_low;
     // The render call alone, below main's frame.
     let render_used = render_sp - render_low;
-    let _ = writeln!(
+    // The render's deepest point, from the top: main's frame plus the call.
+    let render_peak = top - render_low;
+    let _ = write!(
         out,
-        "board={BOARD} frame_checksum={:08x} stack_bytes={used} render_stack_bytes={render_used} \
-         stack_limit_bytes={limit} hits={} shadow_rays={} shadow_hits={} cells={} triangle_tests={}",
+        "board={BOARD} scene={} frame_checksum={:08x} stack_bytes={used} \
+         render_stack_bytes={render_used} render_peak_stack_bytes={render_peak} \
+         setup_stack_bytes={setup_used} stack_limit_bytes={limit} ",
+        variant.name(),
         hash.0,
-        stats.hits,
-        stats.shadow_rays,
-        stats.shadow_hits,
-        stats.cells,
-        stats.triangle_tests
     );
+    let _ = scene::write_sizes(&mut out);
+    let _ = out.write_str(" ");
+    let _ = scene::write_work(&mut out, &stats);
+    let _ = out.write_str("\n");
     debug::exit(debug::EXIT_SUCCESS);
     loop {
         cortex_m::asm::wfi();

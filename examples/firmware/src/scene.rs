@@ -9,6 +9,13 @@
 //! It uses only `core` and `hfray`: no allocation, no frame buffer. The frame
 //! is handed out one scanline (`WIDTH * 3` RGB bytes) at a time.
 //!
+//! Several scenes ([`Variant`], chosen at run time by name so one binary
+//! renders them all with the same code): the issue-5 frame (`base`), the
+//! field as a mirror at `max_trace_level` 1 and 5 (`reflect-1`,
+//! `reflect-5`), and, in builds with the `primitives` feature, the field
+//! over a reflective plane (`plane-1`, `plane-5`), so the analytic-shape
+//! code is really linked and exercised.
+//!
 //! The scene is a [`hfray::scene::model::Scene`] (the model the parser
 //! fills), rendered by hfray's own renderer: [`render`] calls
 //! [`hfray::render::render`]. [`Renderer`] is the same computation split
@@ -50,8 +57,91 @@ pub const FIELD_DEPTH: u32 = 61;
 pub static FIELD_SAMPLES: [u8; (FIELD_WIDTH * FIELD_DEPTH) as usize] =
     *include_bytes!("../data/maunga_whau_87x61.u8.raw");
 
-/// The scene model type: one object, one light.
-pub type FirmwareScene = Scene<'static, 1, 1>;
+/// Object capacity of the scene model: the height field, plus the plane
+/// when the analytic primitives are built.
+#[cfg(feature = "primitives")]
+pub const OBJECTS: usize = 2;
+/// Object capacity of the scene model: the height field only.
+#[cfg(not(feature = "primitives"))]
+pub const OBJECTS: usize = 1;
+
+/// The scene model type: [`OBJECTS`] objects, one light.
+pub type FirmwareScene = Scene<'static, OBJECTS, 1>;
+
+/// Which scene to render. Every variant has the same camera, light and
+/// frame size; only objects, finishes and `max_trace_level` differ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variant {
+    /// The issue-5 frame: the field (ambient + diffuse, shadows), no
+    /// reflection, `max_trace_level` 5 (the default; nothing reflects).
+    Base,
+    /// The field turned `rotate <0, 23, 0>` with `reflection 0.35`
+    /// (its slopes mirror one another), at `max_trace_level` `level`. The
+    /// rotation also checks that a rotated field is bit-identical across
+    /// targets now that rays reach grid space in `f32`.
+    Reflect {
+        /// `max_trace_level`.
+        level: u32,
+    },
+    /// The field (`reflection 0.25`) over a reflective plane at y = 0
+    /// (`reflection 0.5`): rays bounce between the two, at
+    /// `max_trace_level` `level`.
+    #[cfg(feature = "primitives")]
+    Plane {
+        /// `max_trace_level`.
+        level: u32,
+    },
+}
+
+/// Every variant this build can render, by name.
+#[cfg(not(feature = "primitives"))]
+pub const VARIANTS: [(&str, Variant); 3] = [
+    ("base", Variant::Base),
+    ("reflect-1", Variant::Reflect { level: 1 }),
+    ("reflect-5", Variant::Reflect { level: 5 }),
+];
+/// Every variant this build can render, by name.
+#[cfg(feature = "primitives")]
+pub const VARIANTS: [(&str, Variant); 5] = [
+    ("base", Variant::Base),
+    ("reflect-1", Variant::Reflect { level: 1 }),
+    ("reflect-5", Variant::Reflect { level: 5 }),
+    ("plane-1", Variant::Plane { level: 1 }),
+    ("plane-5", Variant::Plane { level: 5 }),
+];
+
+impl Variant {
+    /// The variant called `name` (see [`VARIANTS`]), if this build has it.
+    /// Bounded by the table's length.
+    pub fn by_name(name: &[u8]) -> Option<Variant> {
+        VARIANTS
+            .iter()
+            .find(|(n, _)| n.as_bytes() == name)
+            .map(|&(_, v)| v)
+    }
+
+    /// The variant's name in [`VARIANTS`].
+    pub fn name(self) -> &'static str {
+        VARIANTS
+            .iter()
+            .find(|&&(_, v)| v == self)
+            .map_or("?", |&(n, _)| n)
+    }
+}
+
+/// Picks the variant from a command line: the last space-separated word
+/// after the first (the program name), `base` if there is none. Unknown
+/// names give `None`. Bounded by the line's length.
+pub fn variant_from_cmdline(line: &[u8]) -> Option<Variant> {
+    let mut words = line
+        .split(|&b| b == b' ' || b == 0)
+        .filter(|w| !w.is_empty());
+    let _program = words.next();
+    match words.next_back() {
+        None => Some(Variant::Base),
+        Some(name) => Variant::by_name(name),
+    }
+}
 
 /// Why the scene could not be built (never expected: the data is fixed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -85,8 +175,9 @@ pub fn field_transform() -> Result<Transform, SceneError> {
     Ok(scale.then(&shift))
 }
 
-/// The scene as data: camera, one light, one smooth height field.
-pub fn build_scene() -> Result<FirmwareScene, SceneError> {
+/// The scene as data: camera, one light, one smooth height field (and, for
+/// [`Variant::Plane`], a plane under it).
+pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
     let mut scene = FirmwareScene {
         camera: CameraDesc {
             projection: Projection::Perspective,
@@ -108,6 +199,24 @@ pub fn build_scene() -> Result<FirmwareScene, SceneError> {
             color: Vec3::ONE,
         })
         .map_err(|_| SceneError::Capacity)?;
+    // One call to field_transform (so LTO inlines it: its f64 temporaries
+    // then share main's frame instead of stacking a frame of their own on
+    // top of it).
+    let placed = field_transform()?;
+    let (transform, reflection) = match variant {
+        Variant::Base => (placed, 0.0),
+        Variant::Reflect { level } => {
+            scene.settings.max_trace_level = level;
+            // Turned about the vertical axis through the origin.
+            let turn = Transform::rotate_degrees(DVec3::new(0.0, 23.0, 0.0))?;
+            (placed.then(&turn), 0.35)
+        }
+        #[cfg(feature = "primitives")]
+        Variant::Plane { level } => {
+            scene.settings.max_trace_level = level;
+            (placed, 0.25)
+        }
+    };
     scene
         .objects
         .push(Object {
@@ -119,7 +228,7 @@ pub fn build_scene() -> Result<FirmwareScene, SceneError> {
                 palette_colors: false,
                 field_index: 0,
             },
-            transform: field_transform()?,
+            transform,
             pigment: Pigment {
                 color: Vec3::new(0.55, 0.72, 0.38),
                 ..Pigment::default()
@@ -127,10 +236,35 @@ pub fn build_scene() -> Result<FirmwareScene, SceneError> {
             finish: Finish {
                 ambient: Vec3::splat(0.15),
                 diffuse: 0.85,
+                reflection: Vec3::splat(reflection),
                 ..Finish::default()
             },
         })
         .map_err(|_| SceneError::Capacity)?;
+    #[cfg(feature = "primitives")]
+    if let Variant::Plane { .. } = variant {
+        // Dark water at the field's base (the lowest sample is above 0).
+        scene
+            .objects
+            .push(Object {
+                shape: Shape::Plane {
+                    normal: Vec3::Y,
+                    distance: 0.0,
+                },
+                transform: Transform::IDENTITY,
+                pigment: Pigment {
+                    color: Vec3::new(0.10, 0.22, 0.35),
+                    ..Pigment::default()
+                },
+                finish: Finish {
+                    ambient: Vec3::splat(0.1),
+                    diffuse: 0.5,
+                    reflection: Vec3::splat(0.5),
+                    ..Finish::default()
+                },
+            })
+            .map_err(|_| SceneError::Capacity)?;
+    }
     Ok(scene)
 }
 
@@ -148,6 +282,40 @@ pub fn build_field(scene: &FirmwareScene) -> Result<HeightField<'static>, SceneE
         HeightConvention::Gray8,
     )?
     .with_transform(transform))
+}
+
+/// Writes the render's work counters as `key=value` fields (every program
+/// prints them; `run-qemu.sh` compares them with the host's, which catches
+/// arithmetic that differs without changing an 8-bit pixel).
+pub fn write_work(out: &mut impl core::fmt::Write, stats: &Stats) -> core::fmt::Result {
+    write!(
+        out,
+        "hits={} reflected_rays={} shadow_rays={} shadow_hits={} cells={} triangle_tests={} \
+         dropped_rays={}",
+        stats.hits,
+        stats.reflected_rays,
+        stats.shadow_rays,
+        stats.shadow_hits,
+        stats.cells,
+        stats.triangle_tests,
+        stats.dropped_rays
+    )
+}
+
+/// Writes the sizes of what the render holds, on the running target, as
+/// `key=value` fields: the scene model, one `HeightField`, the camera, the
+/// tracer (`Tracer<OBJECTS>`, on the stack during the render) and the line
+/// buffers ([`WIDTH`] `Rgb888` pixels plus [`LINE_BYTES`] bytes).
+pub fn write_sizes(out: &mut impl core::fmt::Write) -> core::fmt::Result {
+    write!(
+        out,
+        "model_bytes={} heightfield_bytes={} camera_bytes={} tracer_bytes={} line_bytes={}",
+        core::mem::size_of::<FirmwareScene>(),
+        core::mem::size_of::<HeightField<'static>>(),
+        core::mem::size_of::<Camera>(),
+        core::mem::size_of::<Tracer<'static, OBJECTS>>(),
+        WIDTH * core::mem::size_of::<Rgb888>() + LINE_BYTES
+    )
 }
 
 /// FNV-1a, 32 bit, over the frame's RGB bytes in row order (no header).
@@ -225,7 +393,7 @@ pub fn render<E>(
 /// `aa = 1`: one ray through each pixel centre, `Rgb888::from_linear`.
 pub struct Renderer<'s> {
     camera: Camera,
-    tracer: Tracer<'s, 1>,
+    tracer: Tracer<'s, OBJECTS>,
 }
 
 impl<'s> Renderer<'s> {

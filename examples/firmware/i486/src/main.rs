@@ -6,13 +6,17 @@
 //! rejects any instruction the 486 lacks. It renders the same scene with the
 //! same code (`../../src/scene.rs`), writes the frame to `frame-i486.ppm`
 //! and prints one line on stdout:
-//! `board=i486 frame_checksum=HEX stack_bytes=N render_stack_bytes=N hits=N shadow_rays=N ...`.
+//! `board=i486 scene=NAME frame_checksum=HEX stack_bytes=N render_stack_bytes=N ... hits=N ...`.
+//! The scene variant (`scene::VARIANTS`) is the last command-line argument,
+//! `base` without one.
 //!
 //! # What the C runtime would have done, done here
-//! - `_start` (assembly): clear the frame pointer, align the stack to 16
-//!   bytes, paint [`PAINT_BYTES`] below it with `0xCCCC_CCCC` (stack
-//!   high-water), set the x87 control word, call [`start`].
-//! - Linux system calls through `int 0x80`: `open`, `write`, `close`, `exit`.
+//! - `_start` (assembly): clear the frame pointer, keep the entry stack
+//!   pointer (it points at `argc`, `argv`), align the stack to 16 bytes,
+//!   paint [`PAINT_BYTES`] below it with `0xCCCC_CCCC` (stack high-water),
+//!   call [`start`].
+//! - Linux system calls through `int 0x80`: `open`, `read`, `write`,
+//!   `close`, `exit`.
 //! - `memcpy`, `memmove`, `memset`, `memcmp`, `bcmp`: compiler_builtins for
 //!   `*-linux-gnu` expects libc to provide them. They are written in
 //!   assembly (`rep movsb`/`rep stosb`/`repe cmpsb`, all on the 486) because
@@ -25,11 +29,13 @@
 //! after each step as on SSE, VFP or soft-float, and the result would depend
 //! on register allocation. [`start`] therefore sets the precision-control
 //! field of the control word to 53 bits for the setup (all `f64`: the core's
-//! transforms, the camera) and to 24 bits for the render (all `f32`), which
-//! rounds every operation's significand to `f32` precision. That is exactly
-//! IEEE `f32` unless a value leaves the `f32` exponent range, which the
-//! checksum comparison with the host would show. With 53 or 64 bits during
-//! the render, 4 pixels of the frame differ from the host's.
+//! transforms, the camera, the fields' grid maps) and to 24 bits for the
+//! render (all `f32`, including the per-ray world-to-grid map), which rounds
+//! every operation's significand to `f32` precision. That is exactly IEEE
+//! `f32` unless a value leaves the `f32` exponent range, which the checksum
+//! and work-counter comparison with the host would show. With 24 bits for
+//! the whole program, or 53 or 64 bits for the render, the 8-bit frame of
+//! the `base` scene still matches but its cell count differs by one.
 #![no_std]
 #![no_main]
 
@@ -48,6 +54,8 @@ global_asm!(
     ".globl _start",
     "_start:",
     "xor ebp, ebp",
+    // esi: the entry stack pointer (argc, then argv[]); rep stosd keeps it.
+    "mov esi, esp",
     "and esp, -16",
     // Paint PAINT_BYTES below esp (rep stosd goes upward from edi).
     "mov edi, esp",
@@ -56,9 +64,11 @@ global_asm!(
     "mov eax, {paint}",
     "cld",
     "rep stosd",
-    // start(stack_top): the argument at [esp], esp 16-aligned at the call.
+    // start(stack_top, entry_sp): arguments at [esp], [esp + 4], esp
+    // 16-aligned at the call.
     "mov eax, esp",
-    "sub esp, 12",
+    "sub esp, 8",
+    "push esi",
     "push eax",
     "call {start}",
     "ud2",
@@ -147,6 +157,7 @@ global_asm!(
 /// Linux i386 system call numbers.
 mod nr {
     pub const EXIT: u32 = 1;
+    pub const READ: u32 = 3;
     pub const WRITE: u32 = 4;
     pub const OPEN: u32 = 5;
     pub const CLOSE: u32 = 6;
@@ -251,10 +262,85 @@ fn repaint_below_sp(top: usize) -> usize {
     sp
 }
 
-extern "C" fn start(stack_top: usize) -> ! {
+/// The last command-line argument (`argv[argc - 1]` when `argc >= 2`),
+/// at most 64 bytes of it; empty if there is none. `entry_sp` is the stack
+/// pointer the kernel handed to `_start`: `argc`, then the `argv` pointers.
+fn last_argument(entry_sp: usize) -> &'static [u8] {
+    // SAFETY: the Linux i386 process entry ABI: `[entry_sp]` is argc,
+    // followed by argc pointers to NUL-terminated strings that live (on
+    // the stack above us) for the whole process and are never written.
+    unsafe {
+        let argc = *(entry_sp as *const usize);
+        if argc < 2 {
+            return &[];
+        }
+        let arg = *((entry_sp + 4 * argc) as *const *const u8);
+        let mut len = 0;
+        while len < 64 && *arg.add(len) != 0 {
+            len += 1;
+        }
+        core::slice::from_raw_parts(arg, len)
+    }
+}
+
+/// `VmPeak` and `VmHWM` of `/proc/self/status` in KiB: the peak address
+/// space (what `ulimit -v` caps) and the peak resident set. 0 where they
+/// cannot be read; under QEMU they are QEMU's own. Not inlined, and called
+/// after the stack measurement: its 2 KiB buffer is not part of the figure.
+#[inline(never)]
+fn vm_peak_and_hwm_kib() -> (u32, u32) {
+    let fd = syscall3(nr::OPEN, c"/proc/self/status".as_ptr() as u32, 0, 0);
+    if fd < 0 {
+        return (0, 0);
+    }
+    let mut buf = [0u8; 2048];
+    let mut len = 0;
+    // Bounded: every round reads at least one byte or stops.
+    while len < buf.len() {
+        let n = syscall3(
+            nr::READ,
+            fd as u32,
+            buf[len..].as_mut_ptr() as u32,
+            (buf.len() - len) as u32,
+        );
+        if n <= 0 {
+            break;
+        }
+        len += n as usize;
+    }
+    syscall3(nr::CLOSE, fd as u32, 0, 0);
+    let text = &buf[..len];
+    (status_kib(text, b"VmPeak:"), status_kib(text, b"VmHWM:"))
+}
+
+/// The number after `key` in `/proc/self/status` text, 0 if absent.
+/// Bounded by the text's length.
+fn status_kib(text: &[u8], key: &[u8]) -> u32 {
+    let Some(at) = text.windows(key.len()).position(|w| w == key) else {
+        return 0;
+    };
+    text[at + key.len()..]
+        .iter()
+        .skip_while(|b| **b == b' ' || **b == b'\t')
+        .take_while(|b| b.is_ascii_digit())
+        .fold(0u32, |v, b| {
+            v.saturating_mul(10).saturating_add((b - b'0') as u32)
+        })
+}
+
+extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     // Setup (f64 inside the core: transform composition and inverses).
     set_x87_precision(0b10);
-    let model = match scene::build_scene() {
+    let arg = last_argument(entry_sp);
+    let variant = if arg.is_empty() {
+        scene::Variant::Base
+    } else {
+        match scene::Variant::by_name(arg) {
+            Some(v) => v,
+            None => fail("unknown-scene"),
+        }
+    };
+    let model = match scene::build_scene(variant) {
         Ok(s) => s,
         Err(_) => fail("scene"),
     };
@@ -298,13 +384,23 @@ extern "C" fn start(stack_top: usize) -> ! {
     syscall3(nr::CLOSE, fd, 0, 0);
     let render_low = lowest_used_stack_address(stack_top);
     let used = stack_top - setup_low.min(render_low);
+    let setup_used = stack_top - setup_low;
     let render_used = render_sp - render_low;
-    let _ = writeln!(
+    let render_peak = stack_top - render_low;
+    let (vm_peak, vm_hwm) = vm_peak_and_hwm_kib();
+    let _ = write!(
         Stdout,
-        "board=i486 frame_checksum={:08x} stack_bytes={used} render_stack_bytes={render_used} \
-         hits={} shadow_rays={} shadow_hits={} cells={} triangle_tests={}",
-        hash.0, stats.hits, stats.shadow_rays, stats.shadow_hits, stats.cells, stats.triangle_tests
+        "board=i486 scene={} frame_checksum={:08x} stack_bytes={used} \
+         render_stack_bytes={render_used} render_peak_stack_bytes={render_peak} \
+         setup_stack_bytes={setup_used} vm_peak_kib={vm_peak} \
+         vm_hwm_kib={vm_hwm} ",
+        variant.name(),
+        hash.0,
     );
+    let _ = scene::write_sizes(&mut Stdout);
+    let _ = Stdout.write_str(" ");
+    let _ = scene::write_work(&mut Stdout, &stats);
+    let _ = Stdout.write_str("\n");
     exit(0)
 }
 
