@@ -11,12 +11,14 @@
 //! normalised camera ray, `+inf` for none). Rows are written as they are
 //! finished; with `--threads N` the image is cut into bands of rows that
 //! threads render in parallel, still written in order through a bounded
-//! queue. The file is written under a temporary name and renamed when
-//! complete, so an error or an interrupt never leaves a partial image under
-//! the requested name.
+//! queue. The file is written under a temporary name (`.NAME.partial-PID`
+//! in the output's folder) and renamed when complete, so an error or an
+//! interrupt never leaves a partial image under the requested name, and an
+//! existing file of that name stays as it was until the new one replaces it.
 //!
 //! Errors print `error: FILE:LINE:COL: message` (or `error: message`) and
-//! exit with status 1.
+//! exit with status 1. An interrupt (Ctrl-C / SIGINT, SIGTERM, SIGHUP)
+//! removes the temporary file, prints `interrupted` and exits with status 130.
 
 #[path = "harness/mod.rs"]
 mod harness;
@@ -25,7 +27,7 @@ use std::io::{IsTerminal, Write};
 use std::ops::{ControlFlow, Range};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::mpsc;
+use std::sync::{mpsc, Mutex, MutexGuard};
 use std::time::Instant;
 
 use harness::alloc_count::CountingAlloc;
@@ -409,6 +411,41 @@ fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.partial-{}", std::process::id()))
 }
 
+/// The temporary file being written, if any. It is created, renamed and
+/// removed only while this lock is held, and the interrupt handler takes
+/// the lock and never gives it back (it exits), so an interrupt can never
+/// land between creating the file and recording it, or leave it behind.
+static PARTIAL: Mutex<Option<PathBuf>> = Mutex::new(None);
+
+fn partial() -> MutexGuard<'static, Option<PathBuf>> {
+    // A poisoned lock still holds the right path.
+    PARTIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// On SIGINT, SIGTERM or SIGHUP: remove the partial output, exit 130. The
+/// handler runs on its own thread (`ctrlc`), not in signal context, so it
+/// may lock and touch the file system.
+fn install_interrupt_handler() -> Result<(), String> {
+    ctrlc::set_handler(|| {
+        let guard = partial();
+        if let Some(temp) = guard.as_ref() {
+            let _ = std::fs::remove_file(temp);
+        }
+        eprintln!("\ninterrupted");
+        // Exiting with the lock held: no other thread can create or rename
+        // the temporary file from here on.
+        std::process::exit(130);
+    })
+    .map_err(|e| format!("cannot install the interrupt handler: {e}"))
+}
+
+/// Removes the temporary file (after an error).
+fn discard(temp: &Path) {
+    let mut guard = partial();
+    let _ = std::fs::remove_file(temp);
+    *guard = None;
+}
+
 fn run(o: &Options) -> Result<(), String> {
     let text = read_scene_text(&o.scene)?;
     let rows = o.rows.clone().unwrap_or(0..o.height);
@@ -438,7 +475,18 @@ fn run(o: &Options) -> Result<(), String> {
 
         let output = frame_path(&o.output, frame, o.frames);
         let temp = temp_path(&output);
-        let mut sink = Sink::create(&output, &temp, o.width, rows.len() as u32)?;
+        let mut sink = {
+            let mut guard = partial();
+            *guard = Some(temp.clone());
+            match Sink::create(&output, &temp, o.width, rows.len() as u32) {
+                Ok(sink) => sink,
+                Err(e) => {
+                    let _ = std::fs::remove_file(&temp);
+                    *guard = None;
+                    return Err(e);
+                }
+            }
+        };
         let mut progress = Progress::new(o.quiet, rows.len() as u32);
         let trace_start = Instant::now();
         let result = render_rows(&scene, &fields, o, rows.clone(), &mut sink, &mut progress)
@@ -447,13 +495,18 @@ fn run(o: &Options) -> Result<(), String> {
         let stats = match result {
             Ok(stats) => stats,
             Err(e) => {
-                let _ = std::fs::remove_file(&temp);
+                discard(&temp);
                 return Err(e);
             }
         };
-        if let Err(e) = std::fs::rename(&temp, &output) {
-            let _ = std::fs::remove_file(&temp);
-            return Err(io_err(&output, e));
+        {
+            let mut guard = partial();
+            let renamed = std::fs::rename(&temp, &output);
+            if renamed.is_err() {
+                let _ = std::fs::remove_file(&temp);
+            }
+            *guard = None;
+            renamed.map_err(|e| io_err(&output, e))?;
         }
         if o.stats {
             eprintln!(
@@ -478,7 +531,9 @@ fn run(o: &Options) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    let result = parse_args().and_then(|o| run(&o));
+    let result = install_interrupt_handler()
+        .and_then(|()| parse_args())
+        .and_then(|o| run(&o));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

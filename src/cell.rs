@@ -169,7 +169,7 @@ impl<S: Real> Cell<'_, S> {
         }
         // The diagonal fu + fv = 1 is crossed strictly inside the segment.
         let lambda = s_a / (s_a - s_b);
-        let t_d = (a.t + (b.t - a.t) * lambda).max(a.t).min(b.t);
+        let t_d = lerp_t(a.t, b.t, lambda);
         let fu_d = clamp01(self.origin[0] + t_d * self.dir[0] - self.cu);
         let c = &self.corners;
         let h_d = c.h01 + fu_d * (c.h10 - c.h01);
@@ -241,10 +241,24 @@ struct Lerped<S> {
     fv: S,
 }
 
+/// `a + (b − a)·λ` for `a <= b`, λ in `[0, 1]`, clamped to `[a, b]`.
+/// When `b − a` overflows (a segment spanning most of the `f32` range) the
+/// convex form is used instead: `∞·0` would be NaN.
+#[inline]
+fn lerp_t<S: Real>(a: S, b: S, lambda: S) -> S {
+    let span = b - a;
+    let t = if span.is_finite() {
+        a + span * lambda
+    } else {
+        a * (S::ONE - lambda) + b * lambda
+    };
+    t.max(a).min(b)
+}
+
 #[inline]
 fn lerp_point<S: Real>(p: &BoundaryPoint<S>, q: &BoundaryPoint<S>, lambda: S) -> Lerped<S> {
     Lerped {
-        t: (p.t + (q.t - p.t) * lambda).max(p.t).min(q.t),
+        t: lerp_t(p.t, q.t, lambda),
         fu: clamp01(p.fu + (q.fu - p.fu) * lambda),
         fv: clamp01(p.fv + (q.fv - p.fv) * lambda),
     }

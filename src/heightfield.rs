@@ -148,8 +148,8 @@ pub struct HeightField<'a> {
     max_units: u32,
     transform: Transform,
     world_to_grid: GridTransform,
-    /// Inverse transpose of the grid-to-world linear map: carries grid-space
-    /// normals to world space.
+    /// Inverse transpose of the grid-to-world linear map, scaled by a power
+    /// of two: carries grid-space normal directions to world space.
     normal_matrix: glam::Mat3,
     skip: Option<SkipGrid<'a>>,
     traversal: Traversal,
@@ -234,6 +234,13 @@ impl<'a> HeightField<'a> {
     }
 
     /// The same field placed in the world by `transform`.
+    ///
+    /// A [`Transform`] built by its constructors is finite and invertible,
+    /// but one composed with [`Transform::then`] can overflow or become
+    /// singular (`scale <1e200, 1, 1>` twice); a field placed so is missed
+    /// by most rays and hit by others at degenerate points.
+    /// [`try_with_transform`](Self::try_with_transform) reports that
+    /// instead.
     pub fn with_transform(mut self, transform: Transform) -> Self {
         self.transform = transform;
         self.update_grid_transform();
@@ -292,6 +299,35 @@ impl<'a> HeightField<'a> {
         self.skip.as_ref()
     }
 
+    /// [`with_transform`](Self::with_transform), checked: the transform,
+    /// its inverse, the world-to-grid map (both precisions) and the normal
+    /// map must all be finite, and the transform must stay finite in `f32`
+    /// (renderers and the `f32` walk use `f32` copies); otherwise
+    /// [`HeightFieldError::Transform`].
+    pub fn try_with_transform(self, transform: Transform) -> Result<Self, HeightFieldError> {
+        let det = transform.to_world().matrix3.determinant();
+        if !(transform.to_world().is_finite()
+            && transform.to_object().is_finite()
+            && det.is_finite()
+            && det != 0.0
+            && transform.to_world_f32().is_finite()
+            && transform.to_object_f32().is_finite())
+        {
+            return Err(HeightFieldError::Transform);
+        }
+        let field = self.with_transform(transform);
+        let g = &field.world_to_grid;
+        if !(g.exact.is_finite()
+            && g.linear.is_finite()
+            && g.anchor.is_finite()
+            && g.anchor_grid.is_finite()
+            && field.normal_matrix.is_finite())
+        {
+            return Err(HeightFieldError::Transform);
+        }
+        Ok(field)
+    }
+
     fn update_grid_transform(&mut self) {
         let grid = DAffine3::from_scale(DVec3::new(
             (self.width - 1) as f64,
@@ -310,7 +346,20 @@ impl<'a> HeightField<'a> {
                 1.0,
                 1.0 / (self.depth - 1) as f64,
             ));
-        self.normal_matrix = g2w.inverse().transpose().as_mat3();
+        // Only the direction of a normal matters: the inverse transpose is
+        // scaled by a power of two (exact) to a largest entry in [0.5, 1),
+        // in f64 before rounding to f32, so that normals of fields scaled
+        // by 1e30 or 1e-30 neither underflow nor overflow f32 before they
+        // are normalised (they came out zero).
+        let n = g2w.inverse().transpose();
+        let largest = n.abs().to_cols_array().into_iter().fold(0.0, f64::max);
+        let n = if largest > 0.0 && largest.is_finite() {
+            let (_, exponent) = libm::frexp(largest);
+            n * libm::ldexp(1.0, -exponent)
+        } else {
+            n
+        };
+        self.normal_matrix = n.as_mat3();
     }
 
     /// Samples per row.
@@ -649,7 +698,21 @@ impl<'a> HeightField<'a> {
     /// Converts a grid-space normal `(-dh/du, 1, -dh/dv)` to a unit world
     /// normal (inverse transpose of the grid-to-world map).
     fn grid_normal_to_world(&self, n: Vec3) -> Vec3 {
-        (self.normal_matrix * n).normalize_or_zero()
+        let w = self.normal_matrix * n;
+        let len2 = w.length_squared();
+        if len2.is_finite() && len2 >= 1e-30 {
+            return w.normalize_or_zero();
+        }
+        // Strongly anisotropic placements (a scale of 1e-20 on one axis and
+        // 1e3 on another) leave components far below 1 whose squares
+        // underflow: divide by the largest first (exact direction, no
+        // square below 1e-30 or above 3).
+        let largest = w.abs().max_element();
+        if largest > 0.0 && largest.is_finite() {
+            (w / largest).normalize_or_zero()
+        } else {
+            Vec3::ZERO
+        }
     }
 
     /// Unit geometric normal of a triangle in world space ("up" side).

@@ -80,11 +80,34 @@ use crate::cell::Corners;
 use crate::heightfield::HeightField;
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::render::{FieldMismatch, RenderError, Stats};
+use crate::render::{FieldMismatch, RenderError, Stats, MAX_AA};
 use crate::scene::{Finish, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
 use crate::transform::Transform;
 use crate::traversal::Counters;
+
+/// The largest colour magnitude a traced ray returns: `f32::MAX` over the
+/// most samples a pixel averages (`MAX_AA²` = 256), so that the renderer's
+/// sum of a pixel's samples stays finite too.
+pub const COLOUR_LIMIT: f32 = f32::MAX / (MAX_AA * MAX_AA) as f32;
+
+/// A colour term clamped to ±[`COLOUR_LIMIT`], NaN made 0.
+///
+/// Scene values are finite but unbounded (`color 1e10` also sets filter and
+/// transmit to 1e10), so products along a ray path can overflow; an
+/// overflowed term meeting one of the other sign would sum to NaN. Terms,
+/// ray weights and pixels are kept finite with this instead: absurd inputs
+/// give saturated, never NaN, colours. Identity on any sane colour.
+#[inline]
+fn saturate(v: Vec3) -> Vec3 {
+    Vec3::from_array(v.to_array().map(|c| {
+        if c.is_nan() {
+            0.0
+        } else {
+            c.clamp(-COLOUR_LIMIT, COLOUR_LIMIT)
+        }
+    }))
+}
 
 /// POV-Ray's default `adc_bailout`: rays that would contribute less are
 /// not traced.
@@ -346,16 +369,16 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 Kind::Transmitted => stats.transmitted_rays += 1,
             }
             let Some(surface) = self.nearest(&p.ray, &mut counters) else {
-                colour += p.mult * self.background;
+                colour += saturate(p.mult * self.background);
                 continue;
             };
             stats.hits += 1;
             let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
-            colour +=
-                p.mult * self.shade(&p, &surface, hit_level, &mut pending, stats, &mut counters);
+            let local = self.shade(&p, &surface, hit_level, &mut pending, stats, &mut counters);
+            colour += saturate(p.mult * saturate(local));
         }
         stats.add_work(&counters);
-        colour
+        saturate(colour)
     }
 
     /// Local colour at a hit; pushes the reflected and continued rays.
@@ -412,7 +435,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 let origin = self.offset(obj, hit, r);
                 let child = Pending {
                     ray: Ray::new(origin, r),
-                    mult: p.mult * finish.reflection,
+                    mult: saturate(p.mult * finish.reflection),
                     weight,
                     level: hit_level,
                     kind: Kind::Reflected,
@@ -431,7 +454,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 let origin = self.offset(obj, hit, d);
                 let child = Pending {
                     ray: Ray::new(origin, d),
-                    mult: p.mult * filtered,
+                    mult: saturate(p.mult * filtered),
                     weight,
                     level: hit_level,
                     kind: Kind::Transmitted,

@@ -124,10 +124,11 @@ impl Transform {
     }
 
     /// Transforms an object-space normal to world space (inverse transpose),
-    /// normalised.
+    /// normalised (in `f64`, so that the normals of objects scaled by 1e30
+    /// or 1e-30 do not underflow or overflow `f32` first).
     pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
         let m = self.to_object.matrix3.transpose();
-        (m * n.as_dvec3()).as_vec3().normalize_or_zero()
+        (m * n.as_dvec3()).normalize_or_zero().as_vec3()
     }
 }
 

@@ -15,7 +15,11 @@
 //!   backwards and never skips a cell of the computed ray.
 //! - A direction component that is zero, `-0.0`, or so small that `1/d`
 //!   overflows is treated as parallel: its boundary is "never" and it is
-//!   never multiplied by an infinity (no `0·∞ = NaN`).
+//!   never multiplied by an infinity (no `0·∞ = NaN`). A direction with
+//!   such a component is first divided by its largest component (and `t`
+//!   scaled to match), so the parallel treatment only ever drops motion
+//!   that is negligible over the box (found by fuzzing: denormal
+//!   directions over a ~1e38 `t` range).
 //! - An exact corner crossing steps both axes at once (the ray touches the
 //!   two side cells in a single point, which the shared vertex covers).
 //! - The loop runs at most `(width − 1) + (depth − 1)` times, whatever the
@@ -606,7 +610,71 @@ pub(crate) fn nearest<S: Real>(
     any: bool,
     counters: &mut Counters,
 ) -> Option<GridHit<S>> {
+    // NaN bounds compare as unordered and miss; so does an inverted range
+    // (checked here too: rescaled, `[0, −1e-45]` would round to `[0, −0]`).
+    if t_min.partial_cmp(&t_max).is_none_or(|o| o.is_gt()) {
+        return None;
+    }
+    // A direction component so small that its reciprocal overflows is
+    // walked as parallel (see `Axis`). That is right while the ray moves
+    // negligibly along it over the span walked, which the box bounds when
+    // the largest component is about 1 — but not when every component is
+    // tiny (a denormal direction) and `[t_min, t_max]` spans ~1e38: such a
+    // ray was hit outside the field, or at t = NaN. It is walked as the
+    // same ray with its direction divided by its largest component and t
+    // multiplied by it; the hit's t is divided back. Ordinary rays never
+    // take this branch, so their results are unchanged.
+    let d = &ray.direction;
+    let tiny = d
+        .iter()
+        .any(|&v| v != S::ZERO && v.is_finite() && !(S::ONE / v).is_finite());
+    if tiny {
+        let m = d[0].abs().max(d[1].abs()).max(d[2].abs());
+        if m > S::ZERO && m.is_finite() {
+            let scaled = GridRay {
+                origin: ray.origin,
+                direction: [d[0] / m, d[1] / m, d[2] / m],
+            };
+            // A finite bound that overflows when scaled: past +MAX, a
+            // range starting there is empty and one ending there ends at
+            // MAX; below −MAX, the reverse. (Infinite bounds keep their
+            // meaning.)
+            let (mut lo, mut hi) = (t_min * m, t_max * m);
+            if t_min.is_finite() && !lo.is_finite() {
+                if lo > S::ZERO {
+                    return None;
+                }
+                lo = -S::MAX;
+            }
+            if t_max.is_finite() && !hi.is_finite() {
+                if hi < S::ZERO {
+                    return None;
+                }
+                hi = S::MAX;
+            }
+            let mut hit = walk(field, &scaled, lo, hi, counters)?;
+            let t = hit.t / m;
+            // Past the largest finite t: outside any [t_min, t_max].
+            if !t.is_finite() {
+                return None;
+            }
+            hit.t = t.max(t_min).min(t_max);
+            return Some(hit);
+        }
+    }
     let _ = any;
+    walk(field, ray, t_min, t_max, counters)
+}
+
+/// [`nearest`] for a ray whose direction components are each zero or have
+/// a finite reciprocal (or are negligible next to the largest).
+fn walk<S: Real>(
+    field: &HeightField<'_>,
+    ray: &GridRay<S>,
+    t_min: S,
+    t_max: S,
+    counters: &mut Counters,
+) -> Option<GridHit<S>> {
     let o = &ray.origin;
     let d = &ray.direction;
     if !(o.iter().all(|v| v.is_finite()) && d.iter().all(|v| v.is_finite())) {

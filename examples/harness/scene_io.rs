@@ -21,9 +21,41 @@ pub const LIGHTS: usize = 16;
 /// A scene parsed by the harness.
 pub type FileScene<'src> = Scene<'src, OBJECTS, LIGHTS>;
 
-/// Reads a scene file's text; the error names the file.
+/// The largest scene file read, in bytes (16 MiB: hundreds of times any
+/// scene the subset can express, whose objects are capped at [`OBJECTS`]).
+/// Reading stops there, so a huge file, or an endless one such as
+/// `/dev/zero` or a pipe, is an error rather than an exhausted memory.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// Reads a scene file's text (at most [`MAX_SCENE_BYTES`]); the error names
+/// the file.
 pub fn read_scene_text(path: &Path) -> Result<String, String> {
-    std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
+    use std::io::Read;
+    let err = |e: std::io::Error| format!("{}: {e}", path.display());
+    let file = std::fs::File::open(path).map_err(err)?;
+    if file.metadata().map_err(err)?.is_dir() {
+        return Err(format!(
+            "{}: is a directory, not a scene file",
+            path.display()
+        ));
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(err)?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(format!(
+            "{}: scene file is larger than {MAX_SCENE_BYTES} bytes (16 MiB), the most accepted",
+            path.display()
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "{}: scene file is not UTF-8 text (invalid byte at offset {})",
+            path.display(),
+            e.utf8_error().valid_up_to()
+        )
+    })
 }
 
 /// Parses `text` (read from `path`); warnings go to `warn` already
@@ -80,7 +112,8 @@ pub fn build_fields<'d>(
             .map_err(|e| format!("{path}: {e}"))?
             .with_water_level(water_level)
             .map_err(|e| format!("{path}: {e}"))?
-            .with_transform(object.transform);
+            .try_with_transform(object.transform)
+            .map_err(|e| format!("{path}: {e}"))?;
         if palette_colors {
             match data.palette() {
                 Some(palette) => field = field.with_palette(palette),

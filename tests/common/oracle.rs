@@ -51,6 +51,20 @@ impl OracleField {
         water: f64,
         to_world: DAffine3,
     ) -> Self {
+        let wide: Vec<u16> = samples.iter().map(|&v| u16::from(v)).collect();
+        Self::new_u16(&wide, width, depth, convention, water, to_world)
+    }
+
+    /// The same for 16-bit samples (`Gray16`; 8-bit conventions work too
+    /// when every sample is below 256).
+    pub fn new_u16(
+        samples: &[u16],
+        width: u32,
+        depth: u32,
+        convention: HeightConvention,
+        water: f64,
+        to_world: DAffine3,
+    ) -> Self {
         let mult = match convention {
             HeightConvention::Indexed => 256.0,
             HeightConvention::Gray8 => 257.0,

@@ -1,0 +1,288 @@
+//! Regression tests for the inputs fuzzing found (fuzz/, `cargo +nightly
+//! fuzz run TARGET`), one per case, named after it. Each states the input,
+//! what went wrong, and what must hold now.
+
+use std::ops::ControlFlow;
+
+use hfray::scene::{parse_scene, ParseOptions, Scene};
+use hfray::{render, LinearRgb, RenderSettings};
+
+/// Renders `src` (no height fields) at `width × height` with `aa`, in
+/// linear colour.
+fn render_text(src: &str, width: u32, height: u32, aa: u32) -> Vec<LinearRgb> {
+    let options = ParseOptions {
+        image_width: width,
+        image_height: height,
+        ..ParseOptions::default()
+    };
+    let scene: Scene<'_, 16, 4> = parse_scene(src, &options, &mut |_| {}).unwrap();
+    let mut line = vec![LinearRgb::default(); width as usize];
+    let mut out = Vec::new();
+    render(
+        &scene,
+        &[],
+        &RenderSettings::new(width, height).with_aa(aa),
+        &mut line,
+        &mut |_, row: &[LinearRgb]| {
+            out.extend_from_slice(row);
+            ControlFlow::Continue(())
+        },
+    )
+    .unwrap();
+    out
+}
+
+/// fuzz/render_scene, crash-cf99b48367ff477b7b17b0597a99fb8102db3f0a
+/// (minimised): `color 11111111111` sets all five channels, so filter and
+/// transmit are 1.1e10 too. The light entering the sphere is multiplied by
+/// `f·C + t` ≈ 1.2e20 at each surface, overflows `f32` on the way out
+/// (+inf), while the local term, weighted by `1 − f − t` < 0, is −inf:
+/// their sum was a NaN pixel. Colours must stay finite numbers, whatever the
+/// (finite) scene values.
+#[test]
+fn huge_filter_and_transmit_gave_nan_pixels() {
+    let src = "#declare R = .5;\n\
+               camera{ orthographic location <0, 5, -5> /image_height }\n\
+               sphere { <0, 1, 0>,R pigment { color 11111111111} }\n";
+    let pixels = render_text(src, 16, 12, 2);
+    assert_eq!(pixels.len(), 16 * 12);
+    for (i, p) in pixels.iter().enumerate() {
+        assert!(p.0.is_finite(), "pixel {i}: {:?}", p.0);
+    }
+}
+
+/// fuzz/intersect, crash-a06b6bf7833340b3d9f184161b7a1b233abf5e72: a
+/// 252×173 16-bit ramp scaled by 1e9 four times (1e36, a valid transform:
+/// finite and invertible in f32 and f64) was hit with a zero normal. The
+/// normal map (inverse transpose of grid-to-world, ~1e-36) made normals
+/// whose squared length underflows f32, and `normalize_or_zero` returned
+/// zero; tiny scales overflowed it likewise. Both directions of scale, for
+/// the geometric and the smooth normal, must give unit normals.
+#[test]
+fn normal_of_field_scaled_by_1e36_was_zero() {
+    use hfray::glam::{DVec3, Vec3};
+    use hfray::{HeightConvention, HeightField, Ray, Samples, Transform};
+    let samples: Vec<u16> = (0..16).map(|i| (i / 4) * 20_000).collect();
+    for scale in [1e36, 1e20, 1e-20, 1e-30] {
+        let s = Transform::scale(DVec3::splat(scale)).unwrap();
+        let field = HeightField::new(Samples::U16(&samples), 4, 4, HeightConvention::Gray16)
+            .unwrap()
+            .try_with_transform(s)
+            .unwrap();
+        let k = scale as f32;
+        let ray = Ray::new(Vec3::new(0.4, 2.0, 0.3) * k, Vec3::NEG_Y * k);
+        let hit = field
+            .intersect(&ray, 0.0, f32::INFINITY)
+            .unwrap_or_else(|| panic!("scale {scale}: no hit"));
+        for n in [hit.normal, field.smooth_normal(&hit)] {
+            assert!(
+                (n.length() - 1.0).abs() < 1e-5,
+                "scale {scale}: normal {n:?}"
+            );
+            // The ramp rises towards the image's bottom row (z = 0): the
+            // normal leans to +z.
+            assert!(n.y > 0.0 && n.z > 0.0, "scale {scale}: normal {n:?}");
+        }
+    }
+}
+
+/// fuzz/intersect, crash-015a3f29b37ff99226229ac860ac4dc858e04dc2: the
+/// same zero normal after the fix above, from an anisotropic placement,
+/// `scale <1e-20, -83.7, -931.7>` on a 252×173 16-bit ramp: the world
+/// normal's components were ~1e-25, their squares underflowed. Unit
+/// normals for anisotropic scales too.
+#[test]
+fn normal_of_field_scaled_1e_20_on_one_axis_was_zero() {
+    use hfray::glam::{DVec3, Vec3};
+    use hfray::{HeightConvention, HeightField, Ray, Samples, Transform};
+    let samples: Vec<u16> = (0..16).map(|i| (i / 4) * 20_000).collect();
+    for scale in [
+        DVec3::new(1e-20, -83.6875, -931.6875),
+        DVec3::new(1e20, 1e-3, 1.0),
+        DVec3::new(1.0, 1e15, 1e-15),
+    ] {
+        let s = Transform::scale(scale).unwrap();
+        let field = HeightField::new(Samples::U16(&samples), 4, 4, HeightConvention::Gray16)
+            .unwrap()
+            .try_with_transform(s)
+            .unwrap();
+        let k = scale.as_vec3();
+        let ray = Ray::new(Vec3::new(0.4, 2.0, 0.3) * k, Vec3::NEG_Y * k);
+        let hit = field
+            .intersect(&ray, 0.0, f32::INFINITY)
+            .unwrap_or_else(|| panic!("scale {scale}: no hit"));
+        for n in [hit.normal, field.smooth_normal(&hit)] {
+            assert!(
+                (n.length() - 1.0).abs() < 1e-5,
+                "scale {scale}: normal {n:?}"
+            );
+        }
+    }
+}
+
+/// fuzz/intersect, crash-c29e05d0775bcde2046734ee5c789ab764ee410c: a
+/// flat 135×2 field at height 0 and a ray lying in its plane with a
+/// denormal direction, `o = (−0, −0, −0)`, `d = (−0, −0, 1e-39)`, over
+/// `[f32::MIN, ∞)`. `1/d` overflows, so every axis was walked as parallel:
+/// the ray was taken to be inside the field over the whole range, the hit
+/// was interpolated at `t_min + (t_max − t_min)·0 = −3.4e38 + ∞·0` = NaN
+/// (and would have been at z = −0.34, off the field). Now the direction
+/// is rescaled first: the ray enters the field at t = 0, the hit is there.
+#[test]
+fn denormal_direction_in_the_plane_of_a_flat_field_hit_at_t_nan() {
+    use hfray::glam::Vec3;
+    use hfray::{Counters, HeightConvention, HeightField, Ray, Samples};
+    let samples = vec![0u8; 135 * 2];
+    let field = HeightField::new(Samples::U8(&samples), 135, 2, HeightConvention::Indexed).unwrap();
+    let ray = Ray::new(Vec3::splat(-0.0), Vec3::new(-0.0, -0.0, 1e-39));
+    let mut counters = Counters::default();
+    let hit = field
+        .intersect_counted(&ray, f32::MIN, f32::INFINITY, &mut counters)
+        .expect("the ray runs along the surface from z = 0");
+    assert_eq!(hit.t, 0.0);
+    assert_eq!(hit.point, Vec3::ZERO);
+    assert_eq!((hit.cell_x, hit.cell_z), (0, 0));
+    assert!(counters.cells <= 135 + 2 - 2);
+    // The f64 path agrees.
+    let h64 = field
+        .intersect_in::<f64>(
+            [-0.0; 3],
+            [-0.0, -0.0, 1e-39],
+            f32::MIN as f64,
+            f64::INFINITY,
+            &mut Counters::default(),
+        )
+        .expect("f64 hit");
+    assert_eq!(h64.t, 0.0);
+    // fuzz/intersect, crash-d3504f5851c63688f0ec346aa2c7a25797a8803c: the
+    // rescaling must not turn an inverted range into a valid one:
+    // `[0, −1e-45]` scaled by 1e-39 rounds to `[0, −0]`, which was walked
+    // and hit at t = −1e-45.
+    let near = Ray::new(Vec3::splat(-1e-45), Vec3::new(-1e-45, -1e-45, 1e-39));
+    assert_eq!(field.intersect(&near, 0.0, -1e-45), None);
+    // A denormal direction straight down onto the field from y = 2 would
+    // hit at t ≈ 2e40, past the largest f32: no hit in range, not inf.
+    let down = Ray::new(Vec3::new(0.5, 2.0, 0.5), Vec3::new(0.0, -1e-40, 0.0));
+    assert_eq!(field.intersect(&down, 0.0, f32::INFINITY), None);
+    // With a direction ~1e-38 the hit is at t ≈ 2e38: representable.
+    let down = Ray::new(Vec3::new(0.5, 2.0, 0.5), Vec3::new(0.0, -1e-38, 0.0));
+    let hit = field.intersect(&down, 0.0, f32::INFINITY).expect("hit");
+    assert!(
+        hit.t.is_finite() && (hit.point - Vec3::new(0.5, 0.0, 0.5)).length() < 1e-3,
+        "{hit:?}"
+    );
+}
+
+/// fuzz/intersect, crash-1d587c0c4f93b430cfc0cf16ac231c783f16fc0b: a
+/// 3×50 flat field, `o = (−1e-45, −1e-45, −1e-45)`,
+/// `d = (−1e-45, 1.3e36, 1.3e36)` (so the x component is rescaled, by
+/// m ≈ 6.4e37), and `t_min = t_max = 1.3e36`: `t_min·m` overflowed to
+/// +inf and was taken as −MAX, the whole ray was walked, and the hit at
+/// the origin was reported at t = 1.3e36 with the point (−1.8e-9, inf,
+/// inf). A range that starts past f32::MAX once rescaled is empty; the
+/// f64 path (which needs no rescaling here) agrees.
+#[test]
+fn rescaled_t_min_overflow_walked_the_whole_ray() {
+    use hfray::glam::Vec3;
+    use hfray::{Counters, HeightConvention, HeightField, Ray, Samples};
+    let samples = vec![0u8; 3 * 50];
+    let field = HeightField::new(Samples::U8(&samples), 3, 50, HeightConvention::Gray8).unwrap();
+    let o = Vec3::splat(-1e-45);
+    let d = Vec3::new(-1e-45, 1.305771e36, 1.305771e36);
+    let t = 1.305771e36f32;
+    assert_eq!(field.intersect(&Ray::new(o, d), t, t), None);
+    let h64 = field.intersect_in::<f64>(
+        o.to_array().map(f64::from),
+        d.to_array().map(f64::from),
+        f64::from(t),
+        f64::from(t),
+        &mut Counters::default(),
+    );
+    assert_eq!(h64, None);
+    // From t = 0 the same ray starts (a hair) under the flat surface and
+    // rises through it at once.
+    let hit = field
+        .intersect(&Ray::new(o, d), 0.0, f32::INFINITY)
+        .expect("hit");
+    assert!(
+        hit.t >= 0.0 && hit.t < 1e-30 && hit.point.is_finite(),
+        "{hit:?}"
+    );
+}
+
+// --- the committed fuzz seeds, run as tests ----------------------------------------
+
+#[path = "../examples/harness/mod.rs"]
+mod harness;
+
+fn seeds(target: &str) -> Vec<(String, Vec<u8>)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fuzz/corpus")
+        .join(target);
+    let mut v: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("seed-"))
+        })
+        .map(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, std::fs::read(&p).unwrap())
+        })
+        .collect();
+    v.sort();
+    assert!(!v.is_empty(), "no seeds in {}", dir.display());
+    v
+}
+
+/// The load_image seeds are valid images of every kind the loaders read
+/// (first byte: the format, as the fuzz target reads it): each decodes.
+#[test]
+fn fuzz_seed_images_all_decode() {
+    use hfray::scene::ImageFormat::*;
+    let formats = [Gif, Pot, Png, Pgm, Ppm, Tga];
+    for (name, bytes) in seeds("load_image") {
+        let format = formats[usize::from(bytes[0]) % formats.len()];
+        let field = harness::images::decode_height_field(std::io::Cursor::new(&bytes[1..]), format)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(field.height_field().is_ok(), "{name}");
+    }
+}
+
+/// The parse_scene seeds are valid scenes (the thesis's §5.4 blocks, the
+/// subset's every construct): each parses without error.
+#[test]
+fn fuzz_seed_scenes_all_parse() {
+    for (name, bytes) in seeds("parse_scene") {
+        let text = std::str::from_utf8(&bytes).unwrap();
+        if let Err(e) = parse_scene::<32, 8>(text, &ParseOptions::default(), &mut |_| {}) {
+            panic!("{name}: {e}");
+        }
+    }
+}
+
+/// The render_scene seeds (8 settings bytes, then a scene) render at their
+/// tiny sizes with finite pixels — including the NaN case above.
+#[test]
+fn fuzz_seed_renders_are_finite() {
+    for (name, bytes) in seeds("render_scene") {
+        let text = std::str::from_utf8(&bytes[8..]).unwrap();
+        let options = ParseOptions::default();
+        let Ok(scene) = parse_scene::<16, 4>(text, &options, &mut |_| {}) else {
+            panic!("{name}: does not parse");
+        };
+        if scene.height_fields().next().is_some() {
+            continue; // needs image files; the fuzz target synthesises them
+        }
+        let (w, h, aa) = (
+            1 + u32::from(bytes[0]) % 16,
+            1 + u32::from(bytes[1]) % 12,
+            1 + u32::from(bytes[2]) % 3,
+        );
+        for p in render_text(text, w, h, aa) {
+            assert!(p.0.is_finite(), "{name}: {:?}", p.0);
+        }
+    }
+}
