@@ -101,6 +101,8 @@ pub struct LoadedField {
     depth: u32,
     convention: HeightConvention,
     palette: Option<Box<Palette>>,
+    /// A skip pyramid over the samples (see [`Self::build_skip`]).
+    skip: Option<Vec<u8>>,
 }
 
 impl LoadedField {
@@ -143,6 +145,7 @@ impl LoadedField {
             depth,
             convention,
             palette: palette.map(Box::new),
+            skip: None,
         })
     }
 
@@ -222,6 +225,24 @@ impl LoadedField {
             Some(p) => field.with_palette(p),
             None => field,
         })
+    }
+
+    /// Builds the skip pyramid the renderer walks by default
+    /// ([`hfray::SkipLayout::pyramid`] with 8-cell blocks): a few KiB for a
+    /// 512² field. Hits are bit-identical with or without it.
+    pub fn build_skip(&mut self) -> Result<(), String> {
+        let field = self.height_field().map_err(|e| e.to_string())?;
+        let layout = hfray::SkipLayout::pyramid(self.width, self.depth, 3);
+        let bytes = hfray::SkipGrid::bytes_needed_for(&field, layout).map_err(|e| e.to_string())?;
+        let mut memory = vec![0u8; bytes];
+        hfray::SkipGrid::build(&field, layout, &mut memory).map_err(|e| e.to_string())?;
+        self.skip = Some(memory);
+        Ok(())
+    }
+
+    /// The skip pyramid's bytes, if [`Self::build_skip`] ran.
+    pub fn skip_bytes(&self) -> Option<&[u8]> {
+        self.skip.as_deref()
     }
 }
 
@@ -524,6 +545,7 @@ fn load_gif<R: Read>(reader: R, pot: bool) -> Result<LoadedField, String> {
             HeightConvention::Indexed
         },
         palette: (!pot).then(|| Box::new(pad_palette(palette.as_deref().unwrap_or(&[])))),
+        skip: None,
     })
 }
 
@@ -673,6 +695,7 @@ fn load_png<R: BufRead + Seek>(reader: R) -> Result<LoadedField, String> {
         depth: depth as u32,
         convention,
         palette,
+        skip: None,
     })
 }
 
@@ -861,6 +884,7 @@ fn load_pnm<R: BufRead>(reader: R) -> Result<LoadedField, String> {
         depth,
         convention,
         palette: None,
+        skip: None,
     })
 }
 
@@ -1067,6 +1091,7 @@ fn load_tga<R: BufRead>(mut reader: R) -> Result<LoadedField, String> {
         depth: u32::from(depth),
         convention,
         palette,
+        skip: None,
     })
 }
 

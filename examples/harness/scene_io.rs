@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 
 use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
-use hfray::HeightField;
+use hfray::{HeightField, SkipGrid};
 
 use super::images::{load_height_field, LoadedField};
 
@@ -72,7 +72,8 @@ pub fn parse_file_scene<'src>(
 }
 
 /// Loads every height-field image the scene names, in `field_index` order,
-/// resolving paths against the scene file's folder.
+/// resolving paths against the scene file's folder, and builds each one's
+/// skip pyramid (walked by default; hits are the same as the flat walk's).
 pub fn load_fields(scene: &FileScene<'_>, scene_path: &Path) -> Result<Vec<LoadedField>, String> {
     let dir = scene_path.parent().unwrap_or(Path::new("."));
     let mut named: Vec<_> = scene.height_fields().collect();
@@ -81,7 +82,11 @@ pub fn load_fields(scene: &FileScene<'_>, scene_path: &Path) -> Result<Vec<Loade
         .into_iter()
         .map(|(_, format, file)| {
             let resolved: PathBuf = dir.join(file);
-            load_height_field(&resolved, format).map_err(|e| e.to_string())
+            let mut field = load_height_field(&resolved, format).map_err(|e| e.to_string())?;
+            field
+                .build_skip()
+                .map_err(|e| format!("{}: {e}", resolved.display()))?;
+            Ok(field)
         })
         .collect()
 }
@@ -114,6 +119,11 @@ pub fn build_fields<'d>(
             .map_err(|e| format!("{path}: {e}"))?
             .try_with_transform(object.transform)
             .map_err(|e| format!("{path}: {e}"))?;
+        if let Some(bytes) = data.skip_bytes() {
+            let grid =
+                SkipGrid::from_precomputed(bytes, &field).map_err(|e| format!("{path}: {e}"))?;
+            field = field.with_skip(grid).map_err(|e| format!("{path}: {e}"))?;
+        }
         if palette_colors {
             match data.palette() {
                 Some(palette) => field = field.with_palette(palette),
