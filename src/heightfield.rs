@@ -346,20 +346,7 @@ impl<'a> HeightField<'a> {
                 1.0,
                 1.0 / (self.depth - 1) as f64,
             ));
-        // Only the direction of a normal matters: the inverse transpose is
-        // scaled by a power of two (exact) to a largest entry in [0.5, 1),
-        // in f64 before rounding to f32, so that normals of fields scaled
-        // by 1e30 or 1e-30 neither underflow nor overflow f32 before they
-        // are normalised (they came out zero).
-        let n = g2w.inverse().transpose();
-        let largest = n.abs().to_cols_array().into_iter().fold(0.0, f64::max);
-        let n = if largest > 0.0 && largest.is_finite() {
-            let (_, exponent) = libm::frexp(largest);
-            n * libm::ldexp(1.0, -exponent)
-        } else {
-            n
-        };
-        self.normal_matrix = n.as_mat3();
+        self.normal_matrix = crate::transform::normal_matrix(&g2w);
     }
 
     /// Samples per row.
@@ -698,21 +685,7 @@ impl<'a> HeightField<'a> {
     /// Converts a grid-space normal `(-dh/du, 1, -dh/dv)` to a unit world
     /// normal (inverse transpose of the grid-to-world map).
     fn grid_normal_to_world(&self, n: Vec3) -> Vec3 {
-        let w = self.normal_matrix * n;
-        let len2 = w.length_squared();
-        if len2.is_finite() && len2 >= 1e-30 {
-            return w.normalize_or_zero();
-        }
-        // Strongly anisotropic placements (a scale of 1e-20 on one axis and
-        // 1e3 on another) leave components far below 1 whose squares
-        // underflow: divide by the largest first (exact direction, no
-        // square below 1e-30 or above 3).
-        let largest = w.abs().max_element();
-        if largest > 0.0 && largest.is_finite() {
-            (w / largest).normalize_or_zero()
-        } else {
-            Vec3::ZERO
-        }
+        crate::transform::unit_direction(self.normal_matrix * n)
     }
 
     /// Unit geometric normal of a triangle in world space ("up" side).

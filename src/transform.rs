@@ -132,6 +132,40 @@ impl Transform {
     }
 }
 
+/// The matrix that carries normals through the linear map `linear`: its
+/// inverse transpose, computed in `f64` and scaled by a power of two
+/// (exact) to a largest entry in `[0.5, 1)` before rounding to `f32`. Only
+/// a normal's direction matters, and unscaled, the normals of objects
+/// scaled by 1e30 or 1e-30 under- or overflow `f32` (they came out zero).
+pub fn normal_matrix(linear: &DMat3) -> Mat3 {
+    let n = linear.inverse().transpose();
+    let largest = n.abs().to_cols_array().into_iter().fold(0.0, f64::max);
+    let n = if largest > 0.0 && largest.is_finite() {
+        let (_, exponent) = libm::frexp(largest);
+        n * libm::ldexp(1.0, -exponent)
+    } else {
+        n
+    };
+    n.as_mat3()
+}
+
+/// `w` scaled to unit length, also when its components are so unequal
+/// (a placement scaled 1e-20 on one axis and 1e3 on another) that their
+/// squares under- or overflow: then it divides by the largest first. Zero
+/// for a zero or non-finite `w`.
+pub fn unit_direction(w: Vec3) -> Vec3 {
+    let len2 = w.length_squared();
+    if len2.is_finite() && len2 >= 1e-30 {
+        return w.normalize_or_zero();
+    }
+    let largest = w.abs().max_element();
+    if largest > 0.0 && largest.is_finite() {
+        (w / largest).normalize_or_zero()
+    } else {
+        Vec3::ZERO
+    }
+}
+
 /// A world-to-grid map kept in two precisions, so each numeric path can
 /// carry rays into a height field's grid space with the accuracy it can
 /// afford (see [`Real::to_grid`](crate::Real::to_grid)).

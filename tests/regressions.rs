@@ -286,3 +286,32 @@ fn fuzz_seed_renders_are_finite() {
         }
     }
 }
+
+/// Found by reading, after the height-field fix above: analytic shapes
+/// carried normals with the unscaled inverse transpose, so a sphere scaled
+/// by 1e25 (or 1e-25) had a normal matrix whose entries under- or
+/// overflowed `f32` and rendered with a zero normal (black). Normals are
+/// now carried as the height field's are.
+#[test]
+fn normal_of_sphere_scaled_by_1e25_was_zero() {
+    use hfray::glam::{DVec3, Vec3};
+    use hfray::scene::Shape;
+    use hfray::{Ray, Transform};
+    let sphere = Shape::Sphere {
+        center: Vec3::ZERO,
+        radius: 1.0,
+    };
+    for scale in [1e25, 1e-25, 1.0] {
+        let t = Transform::scale(DVec3::splat(scale)).unwrap();
+        let k = scale as f32;
+        let ray = Ray::new(Vec3::new(0.0, 0.0, -3.0) * k, Vec3::Z * k);
+        let hit = hfray::shapes::intersect(&sphere, &t, &[], &ray, 0.0, f32::INFINITY)
+            .unwrap()
+            .unwrap_or_else(|| panic!("scale {scale}: no hit"));
+        assert!(
+            (hit.normal.length() - 1.0).abs() < 1e-5,
+            "scale {scale}: {hit:?}"
+        );
+        assert!(hit.normal.z < -0.999, "scale {scale}: {hit:?}");
+    }
+}

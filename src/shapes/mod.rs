@@ -290,7 +290,7 @@ impl Placed {
         Placed {
             primitive,
             to_object: transform.to_object_f32(),
-            normal_matrix: transform.to_object().matrix3.transpose().as_mat3(),
+            normal_matrix: crate::transform::normal_matrix(&transform.to_world().matrix3),
             identity,
         }
     }
@@ -369,7 +369,7 @@ impl Placed {
                 normal: if self.identity {
                     normal
                 } else {
-                    (self.normal_matrix * normal).normalize_or_zero()
+                    crate::transform::unit_direction(self.normal_matrix * normal)
                 },
                 field: None,
             },
