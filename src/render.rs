@@ -189,6 +189,12 @@ pub enum RenderError {
         /// How many fields were supplied.
         fields: usize,
     },
+    /// An object uses a shading term this build leaves out (reflection or
+    /// transparency without the `secondary-rays` feature).
+    NotBuilt {
+        /// Index of the object.
+        object: usize,
+    },
     /// A height field disagrees with its object.
     FieldMismatch {
         /// Index of the object.
@@ -227,6 +233,11 @@ impl core::fmt::Display for RenderError {
             } => write!(
                 f,
                 "object {object}: height field {field_index} was not supplied ({fields} given)"
+            ),
+            RenderError::NotBuilt { object } => write!(
+                f,
+                "object {object} reflects or is transparent, but this build leaves secondary \
+                 rays out: enable hfray's `secondary-rays` feature"
             ),
             RenderError::FieldMismatch {
                 object,

@@ -266,6 +266,10 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let pigment = object.pigment;
             let finish = object.finish;
             let opaque = pigment.filter == 0.0 && pigment.transmit == 0.0;
+            let reflective = finish.reflection.max_element() > 0.0;
+            if !cfg!(feature = "secondary-rays") && (reflective || !opaque) {
+                return Err(RenderError::NotBuilt { object: index });
+            }
             any_transparent |= !opaque;
             let prepared = Prepared {
                 placed: Placed::new(primitive, &object.transform),
@@ -273,7 +277,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 finish,
                 specular_exponent: 1.0 / finish.roughness,
                 opaque,
-                reflective: finish.reflection.max_element() > 0.0,
+                reflective,
                 lit: finish.diffuse != 0.0 || finish.phong != 0.0 || finish.specular != 0.0,
                 smooth,
                 palette,
@@ -424,7 +428,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             }
         }
 
-        if obj.reflective && hit_level < self.max_trace_level {
+        // Without `secondary-rays` no object is reflective or transparent
+        // (`new` refuses them), and these branches compile away.
+        if cfg!(feature = "secondary-rays") && obj.reflective && hit_level < self.max_trace_level {
             let weight = p.weight * finish.reflection.max_element();
             if weight >= ADC_BAILOUT {
                 let mut r = d - n * (2.0 * d.dot(n));
@@ -446,7 +452,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             }
         }
 
-        if !obj.opaque && hit_level < self.max_trace_level {
+        if cfg!(feature = "secondary-rays") && !obj.opaque && hit_level < self.max_trace_level {
             let filtered = colour * f + Vec3::splat(t);
             let trans = libm::fabsf(grey(filtered)).min(1.0);
             let weight = p.weight * filtered.abs().max_element();
