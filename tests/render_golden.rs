@@ -21,23 +21,8 @@ use hfray::glam::{DVec3, Vec3};
 use hfray::scene::{CameraDesc, Finish, ImageFormat, Object, Pigment, Shape};
 use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb888, Samples, Transform};
 
-const N: u32 = 65;
 const W: u32 = 32;
 const H: u32 = 24;
-
-/// An island: a paraboloid cone with a deterministic integer ripple.
-fn island() -> Vec<u8> {
-    let mut v = Vec::with_capacity((N * N) as usize);
-    for r in 0..N as i32 {
-        for c in 0..N as i32 {
-            let (dx, dz) = (c - 30, r - 36);
-            let d2 = dx * dx + dz * dz;
-            let ripple = ((c * 7 + r * 13) % 9 - 4) * 2;
-            v.push((235 - d2 / 2 + ripple).clamp(0, 255) as u8);
-        }
-    }
-    v
-}
 
 fn island_scene() -> (TestScene, Transform) {
     let t = Transform::scale(DVec3::new(1.0, 0.35, 1.0)).unwrap();

@@ -26,7 +26,6 @@ use hfray::glam::{DVec3, Vec3};
 use hfray::scene::{CameraDesc, Finish, ImageFormat, Object, Pigment, Shape};
 use hfray::{HeightConvention, HeightField, Pixel, Rgb888, Samples, Transform};
 
-const N: u32 = 65;
 const W: u32 = 320;
 const H: u32 = 240;
 
@@ -43,19 +42,6 @@ sphere { <0.85, 0.2, 0.25>, 0.08 pigment { color rgbt <1, 0.2, 0.2, 0.5> }
 sphere { <0.2, 0.25, 0.2>, 0.07 pigment { color rgbf <0.2, 1, 0.2, 0.6> }
   finish { ambient 0.2 diffuse 0.5 } }
 "#;
-
-fn island() -> Vec<u8> {
-    let mut v = Vec::with_capacity((N * N) as usize);
-    for r in 0..N as i32 {
-        for c in 0..N as i32 {
-            let (dx, dz) = (c - 30, r - 36);
-            let d2 = dx * dx + dz * dz;
-            let ripple = ((c * 7 + r * 13) % 9 - 4) * 2;
-            v.push((235 - d2 / 2 + ripple).clamp(0, 255) as u8);
-        }
-    }
-    v
-}
 
 fn hfray_scene() -> (TestScene, Transform) {
     let t = Transform::scale(DVec3::new(1.0, 0.35, 1.0)).unwrap();

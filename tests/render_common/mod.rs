@@ -136,3 +136,20 @@ pub fn scene(camera: CameraDesc, objects: &[Object<'static>], lights: &[Light]) 
     }
     s
 }
+
+/// Side of the island field shared by the golden and POV-Ray tests.
+pub const N: u32 = 65;
+
+/// An island: a paraboloid cone with a deterministic integer ripple.
+pub fn island() -> Vec<u8> {
+    let mut v = Vec::with_capacity((N * N) as usize);
+    for r in 0..N as i32 {
+        for c in 0..N as i32 {
+            let (dx, dz) = (c - 30, r - 36);
+            let d2 = dx * dx + dz * dz;
+            let ripple = ((c * 7 + r * 13) % 9 - 4) * 2;
+            v.push((235 - d2 / 2 + ripple).clamp(0, 255) as u8);
+        }
+    }
+    v
+}
