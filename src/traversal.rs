@@ -456,6 +456,226 @@ impl<S: Real> Walk<'_, S> {
         None
     }
 
+    /// The skip walk as a hierarchical DDA, for rays whose boundary
+    /// parameters are strictly monotone on both moving axes.
+    ///
+    /// Culled blocks are stepped over at their own level, as the flat walk
+    /// steps over cells, without finding the cell where the walk would
+    /// leave them; the exact cell is located only when the walk descends
+    /// into a block it cannot cull ([`Walk::locate`]). Why the block steps
+    /// are the flat walk's: inside a block, the walk's exit parameters
+    /// along each axis are at most the block edge's (`tu_edge`, `tv_edge`,
+    /// monotone along the walk). If `tu_edge < tv_edge` it cannot leave
+    /// through the `v` side (that needs `tv_edge ≤ tu(i') ≤ tu_edge`), so
+    /// it enters the next block along `u`; symmetrically for `v`. If they
+    /// are equal, strictness puts the walk in the block's last column and
+    /// last row just before that parameter, so it takes the corner step
+    /// into the diagonal block. Everything else (the cull, its `t` range)
+    /// is [`Walk::walk_skip`]'s, whose proof carries over.
+    #[allow(clippy::too_many_arguments)]
+    fn walk_hdda(
+        &self,
+        field: &HeightField<'_>,
+        skip: &SkipGrid<'_>,
+        top: u8,
+        i0: i32,
+        j0: i32,
+        t_near: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        let (o, d) = (self.o, self.d);
+        let (su, sv) = (self.au.step, self.av.step);
+        let log2 = skip.block_log2() as u32;
+        let mult = field.units_per_sample();
+        let mut c = self.cursor(i0, j0, t_near, Place::Interior);
+        // `c.i`, `c.j`, `c.entry` are the flat walk's cell only while
+        // `exact`; after a block step only `c.t_a`, `c.y_a` are, and `side`
+        // says how the block `(bi, bj)` of `level` was entered.
+        let mut exact = true;
+        let mut side = Exit::U;
+        let mut level = top as u32;
+        let (mut bi, mut bj) = (i0 >> (log2 * level), j0 >> (log2 * level));
+        // Each pass visits a cell (at most cells_u + cells_v + 1), steps a
+        // block (advancing at least one cell), or descends one level (at
+        // most `top` per step or visit).
+        let max_passes = (self.cells_u + self.cells_v + 1) as u64 * (top as u64 + 2) + 1;
+        for _ in 0..max_passes {
+            if level == 0 {
+                let (pi, pj) = (c.i, c.j);
+                match self.visit(field, &mut c, counters) {
+                    Visit::Hit(h) => return Some(h),
+                    Visit::Miss => return None,
+                    Visit::Next => {}
+                }
+                // Test again, from the coarsest, every level whose block
+                // the step left.
+                let diff = ((pi ^ c.i) | (pj ^ c.j)) as u32;
+                while level < top as u32 && (diff >> (log2 * (level + 1))) != 0 {
+                    level += 1;
+                }
+                bi = c.i >> (log2 * level);
+                bj = c.j >> (log2 * level);
+                continue;
+            }
+            counters.blocks += 1;
+            let shift = log2 * level;
+            let i_edge = match su {
+                1 => (((bi + 1) << shift) - 1).min(self.cells_u - 1),
+                -1 => bi << shift,
+                _ => c.i,
+            };
+            let j_edge = match sv {
+                1 => (((bj + 1) << shift) - 1).min(self.cells_v - 1),
+                -1 => bj << shift,
+                _ => c.j,
+            };
+            let (tu_edge, tv_edge) = (self.au.exit(i_edge, o[0]), self.av.exit(j_edge, o[2]));
+            let t_block = tu_edge.min(tv_edge);
+            let t_end = t_block.min(self.t_far).max(c.t_a);
+            let y_b = o[1] + t_end * d[1];
+            let y_a = c.y_a;
+            let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
+            let (lo, hi) = skip.raw_bounds(level as u8, bi as u32, bj as u32);
+            let (b_min, b_max) = (lo * mult, hi * mult);
+            let culled = b_max < self.water_units
+                || y_low > S::from_height_units(b_max)
+                || y_high < S::from_height_units(b_min)
+                || y_high < self.water;
+            if !culled {
+                if !exact {
+                    c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, log2);
+                    exact = true;
+                }
+                level -= 1;
+                bi = c.i >> (log2 * level);
+                bj = c.j >> (log2 * level);
+                continue;
+            }
+            if self.t_far <= t_block {
+                return None; // the walk ends inside the block
+            }
+            // The next block, and the entered cell's column (row) along
+            // each axis the step crosses.
+            let (nbi, nbj) = if tu_edge < tv_edge {
+                side = Exit::U;
+                c.i = i_edge + su;
+                (bi + su, bj)
+            } else if tv_edge < tu_edge {
+                side = Exit::V;
+                c.j = j_edge + sv;
+                (bi, bj + sv)
+            } else {
+                side = Exit::Corner;
+                c.i = i_edge + su;
+                c.j = j_edge + sv;
+                (bi + su, bj + sv)
+            };
+            if nbi < 0
+                || nbj < 0
+                || nbi > (self.cells_u - 1) >> shift
+                || nbj > (self.cells_v - 1) >> shift
+            {
+                return None; // the walk leaves the field
+            }
+            exact = false;
+            c.t_a = t_block.max(c.t_a);
+            c.y_a = o[1] + c.t_a * d[1];
+            let diff = ((bi ^ nbi) | (bj ^ nbj)) as u32;
+            let from = level;
+            while level < top as u32 && (diff >> (log2 * (level + 1 - from))) != 0 {
+                level += 1;
+            }
+            bi = nbi >> (log2 * (level - from));
+            bj = nbj >> (log2 * (level - from));
+        }
+        None
+    }
+
+    /// The flat walk's cell on entering, at `t_a` through `side`, a block
+    /// inside block `(bi, bj)` of `level`, when both axes are strictly
+    /// monotone: column `i` (row `j`) is the one the step entered along the
+    /// axis it crossed; along the other, the walk is in the first row
+    /// (column) of the block whose exit parameter is past `t_a` (never one
+    /// before the start cell `(i0, j0)`); the entry is a vertex when the
+    /// previous one's exit equals `t_a`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn locate(
+        &self,
+        side: Exit,
+        level: u32,
+        bi: i32,
+        bj: i32,
+        i: i32,
+        j: i32,
+        i0: i32,
+        j0: i32,
+        t_a: S,
+        log2: u32,
+    ) -> Cursor<S> {
+        let (o, d) = (self.o, self.d);
+        let (su, sv) = (self.au.step, self.av.step);
+        let shift = log2 * level;
+        // First and last cell of the block along the walk, per axis.
+        let span = |b: i32, s: i32, cells: i32| {
+            let lo = b << shift;
+            let hi = (((b + 1) << shift) - 1).min(cells - 1);
+            if s < 0 {
+                (hi, lo)
+            } else {
+                (lo, hi)
+            }
+        };
+        let (iu_first, iu_last) = span(bi, su, self.cells_u);
+        let (jv_first, jv_last) = span(bj, sv, self.cells_v);
+        let (i_entered, j_entered) = (i, j);
+        let a = |k: i32| self.au.exit(k, o[0]);
+        let b = |k: i32| self.av.exit(k, o[2]);
+        match side {
+            Exit::U => {
+                let j = if sv == 0 {
+                    j0
+                } else {
+                    let from = if sv > 0 {
+                        jv_first.max(j0)
+                    } else {
+                        jv_first.min(j0)
+                    };
+                    let guess = (o[2] + t_a * d[2]).floor_i32();
+                    first_true(|k| b(k) > t_a, from, jv_last, sv, guess)
+                };
+                let corner = sv != 0 && j != j0 && b(j - sv) == t_a;
+                let place = if corner {
+                    Place::Vertex(su < 0, sv < 0)
+                } else {
+                    Place::EdgeU(su < 0)
+                };
+                self.cursor(i_entered, j, t_a, place)
+            }
+            Exit::V => {
+                let i = if su == 0 {
+                    i0
+                } else {
+                    let from = if su > 0 {
+                        iu_first.max(i0)
+                    } else {
+                        iu_first.min(i0)
+                    };
+                    let guess = (o[0] + t_a * d[0]).floor_i32();
+                    first_true(|k| a(k) > t_a, from, iu_last, su, guess)
+                };
+                let corner = su != 0 && i != i0 && a(i - su) == t_a;
+                let place = if corner {
+                    Place::Vertex(su < 0, sv < 0)
+                } else {
+                    Place::EdgeV(sv < 0)
+                };
+                self.cursor(i, j_entered, t_a, place)
+            }
+            _ => self.cursor(i_entered, j_entered, t_a, Place::Vertex(su < 0, sv < 0)),
+        }
+    }
+
     /// The first cell outside the block whose last cells, along u and v,
     /// are `i_edge` and `j_edge`, as the flat walk from `(i, j)` reaches it,
     /// and how it is entered.
@@ -752,13 +972,13 @@ fn walk<S: Real>(
         // monotone (see `block_exit`); with rays whose rounding makes
         // neighbouring boundaries coincide on both axes (origins very far
         // from the field), walk flat.
-        let jumpable = if au.step != 0 && av.step != 0 {
-            walk.v_strict = S::strict_boundaries(o[2], av.inv, 0, cells_v);
-            walk.v_strict || S::strict_boundaries(o[0], au.inv, 0, cells_u)
-        } else {
-            true
-        };
-        if jumpable {
+        let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
+        let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
+        if u_strict && v_strict {
+            return walk.walk_hdda(field, skip, top, i, j, t_near, counters);
+        }
+        walk.v_strict = v_strict;
+        if u_strict || v_strict {
             return walk.walk_skip(field, skip, top, i, j, t_near, counters);
         }
     }
