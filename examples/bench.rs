@@ -9,7 +9,10 @@
 //!     rays (hits cross-checked);
 //! (c) scaling: the same view over the same fractal landscape sampled at
 //!     256², 1024², 4096²;
-//! (d) flat walk vs skip grid (blocks, pyramid) × numeric path.
+//! (d) flat walk vs skip grid (blocks, pyramid) × numeric path;
+//! (e) column coherence: a level flight view traced column by column,
+//!     bottom-up, with and without `intersect_coherent` (answers checked
+//!     identical).
 //!
 //! Times are medians of RUNS runs of the thread's CPU time
 //! (`/proc/thread-self/schedstat`; the machine is shared, so wall time would
@@ -32,8 +35,8 @@ use hfray::pixel::Rgb888;
 use hfray::render::{render, RenderSettings};
 use hfray::scene::ParseOptions;
 use hfray::{
-    Counters, HeightConvention, HeightField, Numeric, Ray, Samples, SkipGrid, SkipLayout,
-    Transform, Traversal,
+    ColumnHint, Counters, HeightConvention, HeightField, Numeric, Ray, Samples, SkipGrid,
+    SkipLayout, Transform, Traversal,
 };
 
 const W: u32 = 320;
@@ -330,6 +333,74 @@ fn section_d(runs: usize) {
     }
 }
 
+/// (e): a level view from inside the field's box (flight-simulator
+/// framing), 320×200, unnormalised directions `forward + u·right + v·up`
+/// with `up` = world y, so each column's rays share their x, z direction.
+fn section_e(runs: usize) {
+    println!(
+        "\n(e) column coherence: level view from inside the box, 512² fractal, primary rays, f32"
+    );
+    let n = 512;
+    let data = fractal(n, 7);
+    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
+        .unwrap()
+        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
+    let buf = skip_buffer(&field, SkipLayout::pyramid(n, n, 3));
+    let f = with_grid(&field, &buf, Traversal::Hierarchy);
+    let eye = Vec3::new(0.5, 0.22, 0.02);
+    let (forward, right, up) = (
+        Vec3::Z,
+        Vec3::X * (0.5 * W as f32 / H as f32),
+        Vec3::Y * 0.5,
+    );
+    // Column-major, bottom row first.
+    let mut rays = Vec::with_capacity((W * H) as usize);
+    for px in 0..W {
+        for py in (0..H).rev() {
+            let u = (px as f32 + 0.5) / W as f32 - 0.5;
+            let v = 0.5 - (py as f32 + 0.5) / H as f32;
+            rays.push(Ray::new(eye, forward + right * u + up * v));
+        }
+    }
+    let mut plain_hits = Vec::new();
+    let mut plain_counters = Counters::default();
+    let plain = median_secs(runs, || {
+        plain_hits.clear();
+        plain_counters = Counters::default();
+        for r in &rays {
+            plain_hits.push(f.intersect_counted(r, 0.0, f32::INFINITY, &mut plain_counters));
+        }
+    });
+    let mut counters = Counters::default();
+    let mut same = true;
+    let coherent = median_secs(runs, || {
+        counters = Counters::default();
+        let mut k = 0;
+        for column in rays.chunks(H as usize) {
+            let mut hint = ColumnHint::new();
+            for r in column {
+                let hit = f.intersect_coherent(r, 0.0, f32::INFINITY, &mut hint, &mut counters);
+                same &= hit == plain_hits[k];
+                k += 1;
+            }
+        }
+    });
+    assert!(same, "coherent answers differ from the plain walk");
+    let hits = plain_hits.iter().filter(|h| h.is_some()).count();
+    let rate = |s: f64| rays.len() as f64 / s / 1e6;
+    println!(
+        "  plain walk   {:>8.3} Mrays/s  ({:.1} visits/ray)\n  coherent     {:>8.3} Mrays/s  ({:.1} visits/ray; {:.2}x; all {} answers identical; {} hits; {} rays resumed)",
+        rate(plain),
+        (plain_counters.cells + plain_counters.blocks) as f64 / rays.len() as f64,
+        rate(coherent),
+        (counters.cells + counters.blocks) as f64 / rays.len() as f64,
+        plain / coherent,
+        rays.len(),
+        hits,
+        counters.resumed,
+    );
+}
+
 fn main() {
     let runs: usize = std::env::args()
         .nth(1)
@@ -365,5 +436,8 @@ fn main() {
     }
     if only.is_empty() || only.contains('d') {
         section_d(runs);
+    }
+    if only.is_empty() || only.contains('e') {
+        section_e(runs);
     }
 }

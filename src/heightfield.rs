@@ -156,6 +156,38 @@ pub struct HeightField<'a> {
     numeric: Numeric,
 }
 
+/// Coherence state for one image column of primary rays
+/// ([`HeightField::intersect_coherent`]): where the previous ray of the
+/// column stopped, and what is needed to tell whether the next may start
+/// there. 64 bytes or so; a renderer keeps one per column.
+#[derive(Debug, Clone, Copy)]
+pub struct ColumnHint {
+    state: traversal::ColumnState<f32>,
+    field: (usize, u32, u32),
+}
+
+impl ColumnHint {
+    /// A hint with no previous ray: start every column with one (or
+    /// [`reset`](Self::reset) it).
+    pub fn new() -> Self {
+        ColumnHint {
+            state: traversal::ColumnState::new(),
+            field: (0, 0, 0),
+        }
+    }
+
+    /// Forgets the previous ray.
+    pub fn reset(&mut self) {
+        self.state.clear();
+    }
+}
+
+impl Default for ColumnHint {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl<'a> HeightField<'a> {
     /// A field over `samples` (row-major, image row 0 first), placed in the
     /// unit cube, with no water level and no palette.
@@ -615,6 +647,57 @@ impl<'a> HeightField<'a> {
     ) -> Option<GridHit<S>> {
         let ray = self.grid_ray(origin, direction);
         traversal::nearest(self, &ray, t_min, t_max, false, counters)
+    }
+
+    /// [`intersect_counted`](Self::intersect_counted) for primary rays
+    /// traced up an image column, bottom row first: each ray may start its
+    /// walk where the previous ray of the column stopped, when that
+    /// provably gives the same hit (the conditions and the proof are in
+    /// [`crate::traversal`]'s coherence notes; `counters.resumed` counts the
+    /// rays that did). The answer is always bit-for-bit
+    /// [`intersect_counted`](Self::intersect_counted)'s.
+    ///
+    /// The rays of a column qualify when they share their origin and their
+    /// grid `x`, `z` direction: a perspective camera whose `up` is the
+    /// field's vertical (a level view, as in flight simulators and the
+    /// thesis's Voxel-Space relatives), or an orthographic one with a level
+    /// `up`, over a field with no water level above its lowest sample, in
+    /// the [`Numeric::F32`] path. Other rays are walked from their start;
+    /// the hint then costs a few comparisons.
+    ///
+    /// Keep one [`ColumnHint`] per image column (see
+    /// [`ColumnHint::new`]); a hint used with another field is detected and
+    /// ignored.
+    pub fn intersect_coherent(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        hint: &mut ColumnHint,
+        counters: &mut Counters,
+    ) -> Option<FieldHit> {
+        let key = self.hint_key();
+        if self.numeric != Numeric::F32 {
+            hint.state.clear();
+            return self.intersect_counted(ray, t_min, t_max, counters);
+        }
+        if hint.field != key {
+            hint.state.clear();
+            hint.field = key;
+        }
+        let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
+        let hit = traversal::nearest_in_column(self, &g, t_min, t_max, &mut hint.state, counters)?;
+        Some(self.finish_hit(ray, &hit))
+    }
+
+    /// What identifies this field to a [`ColumnHint`]: its samples'
+    /// address and size.
+    fn hint_key(&self) -> (usize, u32, u32) {
+        let address = match self.samples {
+            Samples::U8(s) => s.as_ptr() as usize,
+            Samples::U16(s) => s.as_ptr() as usize,
+        };
+        (address, self.width, self.depth)
     }
 
     /// `true` if anything of the field lies on the ray within

@@ -280,7 +280,7 @@ pub mod traversal;
 pub use camera::{Camera, CameraError};
 pub use glam;
 pub use heapless;
-pub use heightfield::{HeightConvention, HeightField, HeightFieldError, Samples};
+pub use heightfield::{ColumnHint, HeightConvention, HeightField, HeightFieldError, Samples};
 pub use pixel::{Indexed8, LinearRgb, Pixel, Rgb565, Rgb565Dithered, Rgb888, PALETTE_256};
 pub use ray::{FieldHit, Ray, Triangle};
 pub use real::{Numeric, Real};

@@ -75,6 +75,9 @@ pub struct Counters {
     pub triangle_tests: u64,
     /// Skip-grid blocks tested (0 in the flat walk).
     pub blocks: u64,
+    /// Rays that started their walk where the previous ray of their
+    /// column stopped ([`HeightField::intersect_coherent`]).
+    pub resumed: u64,
 }
 
 impl core::ops::AddAssign for Counters {
@@ -82,6 +85,7 @@ impl core::ops::AddAssign for Counters {
         self.cells += o.cells;
         self.triangle_tests += o.triangle_tests;
         self.blocks += o.blocks;
+        self.resumed += o.resumed;
     }
 }
 
@@ -221,6 +225,27 @@ struct Cursor<S> {
     entry: Place,
 }
 
+/// A cell of the walk and how the walk entered it: where a walk can be
+/// started again (see [`ColumnState`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Resume<S> {
+    i: i32,
+    j: i32,
+    t_a: S,
+    entry: Place,
+}
+
+impl<S: Copy> Cursor<S> {
+    fn resume(&self) -> Resume<S> {
+        Resume {
+            i: self.i,
+            j: self.j,
+            t_a: self.t_a,
+            entry: self.entry,
+        }
+    }
+}
+
 #[inline]
 fn entry_place(exit: Exit, su: i32, sv: i32) -> Place {
     match exit {
@@ -339,22 +364,24 @@ impl<S: Real> Walk<'_, S> {
         Visit::Next
     }
 
-    /// The flat walk from cell `(i, j)` at `t_a`.
+    /// The flat walk from `start`.
     fn walk_flat(
         &self,
         field: &HeightField<'_>,
-        i: i32,
-        j: i32,
-        t_a: S,
+        start: Resume<S>,
+        stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
-        let mut c = self.cursor(i, j, t_a, Place::Interior);
+        let mut c = self.cursor(start.i, start.j, start.t_a, start.entry);
         // The walk moves one cell per step along u or v (both at a corner),
         // never back: it cannot take more steps than this.
         let max_steps = self.cells_u + self.cells_v + 1;
         for _ in 0..max_steps {
             match self.visit(field, &mut c, counters) {
-                Visit::Hit(h) => return Some(h),
+                Visit::Hit(h) => {
+                    *stop = Some(c.resume());
+                    return Some(h);
+                }
                 Visit::Miss => return None,
                 Visit::Next => {}
             }
@@ -385,12 +412,11 @@ impl<S: Real> Walk<'_, S> {
         field: &HeightField<'_>,
         skip: &SkipGrid<'_>,
         top: u8,
-        i: i32,
-        j: i32,
-        t_a: S,
+        start: Resume<S>,
+        stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
-        let mut c = self.cursor(i, j, t_a, Place::Interior);
+        let mut c = self.cursor(start.i, start.j, start.t_a, start.entry);
         let (o, d) = (self.o, self.d);
         let (su, sv) = (self.au.step, self.av.step);
         let log2 = skip.block_log2() as u32;
@@ -448,7 +474,10 @@ impl<S: Real> Walk<'_, S> {
                 level -= 1;
             }
             match self.visit(field, &mut c, counters) {
-                Visit::Hit(h) => return Some(h),
+                Visit::Hit(h) => {
+                    *stop = Some(c.resume());
+                    return Some(h);
+                }
                 Visit::Miss => return None,
                 Visit::Next => {}
             }
@@ -478,16 +507,16 @@ impl<S: Real> Walk<'_, S> {
         field: &HeightField<'_>,
         skip: &SkipGrid<'_>,
         top: u8,
-        i0: i32,
-        j0: i32,
-        t_near: S,
+        start: Resume<S>,
+        stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
         let (o, d) = (self.o, self.d);
         let (su, sv) = (self.au.step, self.av.step);
         let log2 = skip.block_log2() as u32;
         let mult = field.units_per_sample();
-        let mut c = self.cursor(i0, j0, t_near, Place::Interior);
+        let (i0, j0) = (start.i, start.j);
+        let mut c = self.cursor(i0, j0, start.t_a, start.entry);
         // `c.i`, `c.j`, `c.entry` are the flat walk's cell only while
         // `exact`; after a block step only `c.t_a`, `c.y_a` are, and `side`
         // says how the block `(bi, bj)` of `level` was entered.
@@ -503,7 +532,10 @@ impl<S: Real> Walk<'_, S> {
             if level == 0 {
                 let (pi, pj) = (c.i, c.j);
                 match self.visit(field, &mut c, counters) {
-                    Visit::Hit(h) => return Some(h),
+                    Visit::Hit(h) => {
+                        *stop = Some(c.resume());
+                        return Some(h);
+                    }
                     Visit::Miss => return None,
                     Visit::Next => {}
                 }
@@ -872,7 +904,7 @@ pub(crate) fn nearest<S: Real>(
                 }
                 hi = S::MAX;
             }
-            let mut hit = walk(field, &scaled, lo, hi, counters)?;
+            let mut hit = walk(field, &scaled, lo, hi, None, counters)?;
             let t = hit.t / m;
             // Past the largest finite t: outside any [t_min, t_max].
             if !t.is_finite() {
@@ -883,7 +915,132 @@ pub(crate) fn nearest<S: Real>(
         }
     }
     let _ = any;
-    walk(field, ray, t_min, t_max, counters)
+    walk(field, ray, t_min, t_max, None, counters)
+}
+
+/// [`nearest`] for a primary ray that may start where the previous ray of
+/// its image column stopped, and leaves in `column` what the next may use.
+///
+/// Why resuming is exact. Let ray 1 be the previous ray and ray 2 this one,
+/// and require (checked here, bit for bit, in grid space): the same `u`
+/// and `v` origin and direction components, so both walks cross the same
+/// cells at the same parameters and sample the surface at the same points;
+/// ray 2 no lower at any `t ≥ 0` (`o_y`, `d_y` each at least ray 1's, and
+/// rounding is monotone); the same `[t_min, t_max]` and the same start
+/// `t_near ≥ 0`, so the walks start at the same cell and sample; no water
+/// level above the field's lowest sample, so no crossing is ever rejected;
+/// and ray 1's first sample `g = y − h` strictly positive. The cell test
+/// reports a hit wherever `g` changes sign or is zero, with values shared
+/// bit for bit between neighbouring cells, so ray 1 was strictly above the
+/// surface at every sample before the cell where it hit (culled cells
+/// included: a cull below the surface would need a sign change first).
+/// Ray 2's samples there are `y₂ − h ≥ y₁ − h > 0`: its walk finds nothing
+/// before that cell, and starting it there, entered as ray 1 entered it,
+/// gives the hit its full walk gives. Any failed condition walks from the
+/// start. `tests/coherence.rs` checks identity on sweeps of columns.
+pub(crate) fn nearest_in_column<S: Real>(
+    field: &HeightField<'_>,
+    ray: &GridRay<S>,
+    t_min: S,
+    t_max: S,
+    column: &mut ColumnState<S>,
+    counters: &mut Counters,
+) -> Option<GridHit<S>> {
+    let d = &ray.direction;
+    let tiny = d
+        .iter()
+        .any(|&v| v != S::ZERO && v.is_finite() && !(S::ONE / v).is_finite());
+    if tiny {
+        column.clear();
+        return nearest(field, ray, t_min, t_max, false, counters);
+    }
+    walk(field, ray, t_min, t_max, Some(column), counters)
+}
+
+/// What a primary ray leaves for the next one up its image column: its
+/// grid ray, range and start, whether its first sample was above the
+/// surface, and where its walk stopped (see [`nearest_in_column`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ColumnState<S> {
+    valid: bool,
+    origin: [S; 3],
+    direction: [S; 3],
+    t_min: S,
+    t_max: S,
+    t_near: S,
+    stop: Option<Resume<S>>,
+}
+
+impl<S: Real> ColumnState<S> {
+    /// No previous ray.
+    pub(crate) fn new() -> Self {
+        ColumnState {
+            valid: false,
+            origin: [S::ZERO; 3],
+            direction: [S::ZERO; 3],
+            t_min: S::ZERO,
+            t_max: S::ZERO,
+            t_near: S::ZERO,
+            stop: None,
+        }
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.valid = false;
+        self.stop = None;
+    }
+
+    /// Where ray `(o, d)` may start instead of its own start, if the
+    /// conditions of [`nearest_in_column`] hold.
+    fn resume_for(
+        &self,
+        o: &[S; 3],
+        d: &[S; 3],
+        t_min: S,
+        t_max: S,
+        t_near: S,
+    ) -> Option<Resume<S>> {
+        let same = |a: S, b: S| a.to_f64().to_bits() == b.to_f64().to_bits();
+        let stop = self.stop?;
+        let applies = self.valid
+            && same(o[0], self.origin[0])
+            && same(o[2], self.origin[2])
+            && same(d[0], self.direction[0])
+            && same(d[2], self.direction[2])
+            && o[1] >= self.origin[1]
+            && d[1] >= self.direction[1]
+            && same(t_min, self.t_min)
+            && same(t_max, self.t_max)
+            && same(t_near, self.t_near)
+            && t_near >= S::ZERO;
+        applies.then_some(stop)
+    }
+}
+
+/// `true` if the walk's first sample of a ray starting at `t_near` in cell
+/// `(i, j)` (entered from inside) is strictly above the surface.
+fn starts_above<S: Real>(
+    field: &HeightField<'_>,
+    walk: &Walk<'_, S>,
+    i: i32,
+    j: i32,
+    t_near: S,
+) -> bool {
+    let raw = field.cell_units(i as u32, j as u32);
+    let cell = Cell {
+        origin: walk.o,
+        dir: walk.d,
+        cu: S::from_i32(i),
+        cv: S::from_i32(j),
+        corners: Corners {
+            h00: S::from_height_units(raw[0]),
+            h10: S::from_height_units(raw[1]),
+            h01: S::from_height_units(raw[2]),
+            h11: S::from_height_units(raw[3]),
+        },
+        water: walk.water,
+    };
+    cell.point(t_near, Place::Interior).g > S::ZERO
 }
 
 /// [`nearest`] for a ray whose direction components are each zero or have
@@ -893,8 +1050,15 @@ fn walk<S: Real>(
     ray: &GridRay<S>,
     t_min: S,
     t_max: S,
+    mut column: Option<&mut ColumnState<S>>,
     counters: &mut Counters,
 ) -> Option<GridHit<S>> {
+    // Cleared here, filled in only by a walk that gets under way.
+    let mut previous = ColumnState::new();
+    if let Some(col) = column.as_deref_mut() {
+        previous = *col;
+        col.clear();
+    }
     let o = &ray.origin;
     let d = &ray.direction;
     if !(o.iter().all(|v| v.is_finite()) && d.iter().all(|v| v.is_finite())) {
@@ -962,27 +1126,78 @@ fn walk<S: Real>(
         water_units,
         v_strict: true,
     };
-    let skip = match (field.traversal(), field.skip()) {
-        (Traversal::Flat, _) | (_, None) => None,
-        (Traversal::Blocks, Some(s)) => Some((s, 1)),
-        (Traversal::Hierarchy, Some(s)) => Some((s, s.levels())),
+    let mut start = Resume {
+        i,
+        j,
+        t_a: t_near,
+        entry: Place::Interior,
     };
-    if let Some((skip, top)) = skip {
-        // Jumping needs one axis whose boundary parameters are strictly
-        // monotone (see `block_exit`); with rays whose rounding makes
-        // neighbouring boundaries coincide on both axes (origins very far
-        // from the field), walk flat.
-        let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
-        let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
-        if u_strict && v_strict {
-            return walk.walk_hdda(field, skip, top, i, j, t_near, counters);
-        }
-        walk.v_strict = v_strict;
-        if u_strict || v_strict {
-            return walk.walk_skip(field, skip, top, i, j, t_near, counters);
+    let mut stop = None;
+    // Column coherence: only without a water level that cuts the surface.
+    let coherent = column.is_some() && water_units <= min_units;
+    let mut above = false;
+    if coherent {
+        match previous.resume_for(o, d, t_min, t_max, t_near) {
+            // Resumed only before the walk's end, which it then reaches
+            // through cells whose samples are all above (else it starts
+            // from the beginning, and the same holds of its first sample).
+            Some(r) if r.t_a < t_far => {
+                start = r;
+                above = true;
+                counters.resumed += 1;
+            }
+            Some(_) => above = true,
+            None => above = starts_above(field, &walk, i, j, t_near),
         }
     }
-    walk.walk_flat(field, i, j, t_near, counters)
+    let hit = walk.walk_from(field, start, &mut stop, counters);
+    if let (true, Some(col)) = (coherent && above, column) {
+        *col = ColumnState {
+            valid: true,
+            origin: *o,
+            direction: *d,
+            t_min,
+            t_max,
+            t_near,
+            stop,
+        };
+    }
+    hit
+}
+
+impl<S: Real> Walk<'_, S> {
+    /// The walk from `start` in `field`'s mode.
+    fn walk_from(
+        &mut self,
+        field: &HeightField<'_>,
+        start: Resume<S>,
+        stop: &mut Option<Resume<S>>,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        let skip = match (field.traversal(), field.skip()) {
+            (Traversal::Flat, _) | (_, None) => None,
+            (Traversal::Blocks, Some(s)) => Some((s, 1)),
+            (Traversal::Hierarchy, Some(s)) => Some((s, s.levels())),
+        };
+        let (o, au, av) = (self.o, self.au, self.av);
+        let (cells_u, cells_v) = (self.cells_u, self.cells_v);
+        if let Some((skip, top)) = skip {
+            // Jumping needs one axis whose boundary parameters are strictly
+            // monotone (see `block_exit`); with rays whose rounding makes
+            // neighbouring boundaries coincide on both axes (origins very far
+            // from the field), walk flat.
+            let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
+            let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
+            if u_strict && v_strict {
+                return self.walk_hdda(field, skip, top, start, stop, counters);
+            }
+            self.v_strict = v_strict;
+            if u_strict || v_strict {
+                return self.walk_skip(field, skip, top, start, stop, counters);
+            }
+        }
+        self.walk_flat(field, start, stop, counters)
+    }
 }
 
 #[cfg(test)]
