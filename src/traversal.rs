@@ -93,37 +93,40 @@ impl core::ops::AddAssign for Counters {
 #[derive(Clone, Copy)]
 struct Axis<S> {
     step: i32,
+    /// The boundary a cell is left by: `cell + off` (1 moving up, else 0).
+    off: i32,
     inv: S,
 }
 
 impl<S: Real> Axis<S> {
     fn new(d: S) -> Self {
+        let parallel = Axis {
+            step: 0,
+            off: 0,
+            inv: S::ZERO,
+        };
         if d == S::ZERO {
-            return Axis {
-                step: 0,
-                inv: S::ZERO,
-            };
+            return parallel;
         }
         let inv = S::ONE / d;
         if !inv.is_finite() {
-            return Axis {
-                step: 0,
-                inv: S::ZERO,
-            };
+            return parallel;
         }
+        let up = d > S::ZERO;
         Axis {
-            step: if d > S::ZERO { 1 } else { -1 },
+            step: if up { 1 } else { -1 },
+            off: up as i32,
             inv,
         }
     }
 
     /// Parameter at which the ray leaves cell `cell` along this axis.
-    #[inline]
+    #[inline(always)]
     fn exit(&self, cell: i32, origin: S) -> S {
-        match self.step {
-            1 => (S::from_i32(cell + 1) - origin) * self.inv,
-            -1 => (S::from_i32(cell) - origin) * self.inv,
-            _ => S::MAX,
+        if self.step == 0 {
+            S::MAX
+        } else {
+            (S::from_i32(cell + self.off) - origin) * self.inv
         }
     }
 }
