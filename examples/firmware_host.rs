@@ -54,7 +54,8 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let fields = match scene::build_field(&scene_model) {
+    let mut skip = [0u8; scene::SKIP_BYTES];
+    let fields = match scene::build_field(&scene_model, &mut skip) {
         Ok(f) => [f],
         Err(e) => {
             eprintln!("firmware_host: cannot build the height field: {e:?}");

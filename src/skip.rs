@@ -440,7 +440,7 @@ impl<'a> SkipGrid<'a> {
 
     /// `(min, max)` raw sample of block `(bi, bj)` of `level` (1-based).
     /// Panics if out of range.
-    #[inline]
+    #[inline(always)]
     pub fn raw_bounds(&self, level: u8, bi: u32, bj: u32) -> (u32, u32) {
         let l = level as usize - 1;
         get(
@@ -485,7 +485,7 @@ fn put(buffer: &mut [u8], offset: u32, bu: u32, sb: u8, bi: u32, bj: u32, lo: u3
     }
 }
 
-#[inline]
+#[inline(always)]
 fn get(bytes: &[u8], offset: u32, bu: u32, sb: u8, bi: u32, bj: u32) -> (u32, u32) {
     let index = (bj as usize * bu as usize + bi as usize) * 2 * sb as usize + offset as usize;
     if sb == 1 {

@@ -188,9 +188,10 @@ pub enum Traversal {
 }
 
 /// The ray and the field's constants for one walk.
-struct Walk<'r, S> {
-    o: &'r [S; 3],
-    d: &'r [S; 3],
+struct Walk<S> {
+    /// The ray, by value: kept in registers across the stores of a walk.
+    o: [S; 3],
+    d: [S; 3],
     au: Axis<S>,
     av: Axis<S>,
     t_far: S,
@@ -258,7 +259,7 @@ fn entry_place(exit: Exit, su: i32, sv: i32) -> Place {
     }
 }
 
-impl<S: Real> Walk<'_, S> {
+impl<S: Real> Walk<S> {
     /// A cursor at cell `(i, j)`, entered at `t_a` through `entry`.
     #[inline(always)]
     fn cursor(&self, i: i32, j: i32, t_a: S, entry: Place) -> Cursor<S> {
@@ -311,8 +312,8 @@ impl<S: Real> Walk<'_, S> {
             || y_high < self.water;
         if !culled {
             let cell = Cell {
-                origin: o,
-                dir: d,
+                origin: &o,
+                dir: &d,
                 cu: S::from_i32(i),
                 cv: S::from_i32(j),
                 corners: Corners {
@@ -1024,15 +1025,15 @@ impl<S: Real> ColumnState<S> {
 /// `(i, j)` (entered from inside) is strictly above the surface.
 fn starts_above<S: Real>(
     field: &HeightField<'_>,
-    walk: &Walk<'_, S>,
+    walk: &Walk<S>,
     i: i32,
     j: i32,
     t_near: S,
 ) -> bool {
     let raw = field.cell_units(i as u32, j as u32);
     let cell = Cell {
-        origin: walk.o,
-        dir: walk.d,
+        origin: &walk.o,
+        dir: &walk.d,
         cu: S::from_i32(i),
         cv: S::from_i32(j),
         corners: Corners {
@@ -1118,8 +1119,8 @@ fn walk<S: Real>(
     let j = first_cell(entry_v, av.step, cells_v);
 
     let mut walk = Walk {
-        o,
-        d,
+        o: *o,
+        d: *d,
         au,
         av,
         t_far,
@@ -1168,7 +1169,7 @@ fn walk<S: Real>(
     hit
 }
 
-impl<S: Real> Walk<'_, S> {
+impl<S: Real> Walk<S> {
     /// The walk from `start` in `field`'s mode.
     fn walk_from(
         &mut self,

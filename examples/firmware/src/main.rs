@@ -206,7 +206,8 @@ fn main() -> ! {
             fail()
         }
     };
-    let fields = match scene::build_field(&model) {
+    let mut skip = [0u8; scene::SKIP_BYTES];
+    let fields = match scene::build_field(&model, &mut skip) {
         Ok(f) => [f],
         Err(e) => {
             let _ = writeln!(out, "board={BOARD} error=field:{e:?}");

@@ -35,7 +35,7 @@ use hfray::scene::model::{
 use hfray::transform::TransformError;
 use hfray::{
     Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb888, Samples,
-    Stats, Tracer, Transform,
+    SkipError, SkipGrid, SkipLayout, Stats, Tracer, Transform,
 };
 
 /// Frame width in pixels.
@@ -152,6 +152,14 @@ pub enum SceneError {
     Transform(TransformError),
     /// A `heapless` capacity was too small.
     Capacity,
+    /// The skip pyramid could not be built in [`SKIP_BYTES`] bytes.
+    Skip(SkipError),
+}
+
+impl From<SkipError> for SceneError {
+    fn from(e: SkipError) -> Self {
+        SceneError::Skip(e)
+    }
 }
 
 impl From<HeightFieldError> for SceneError {
@@ -268,20 +276,37 @@ pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
     Ok(scene)
 }
 
-/// The height field the scene's object 0 refers to, over the flash samples.
-pub fn build_field(scene: &FirmwareScene) -> Result<HeightField<'static>, SceneError> {
+/// Bytes of the field's skip pyramid ([`SkipLayout::pyramid`] with
+/// fan-out 4: 4-, 16- and 64-cell blocks): a 16-byte header and
+/// `2 × (22·15 + 6·4 + 2·1)` bytes of block bounds.
+pub const SKIP_BYTES: usize = 728;
+
+/// The height field the scene's object 0 refers to, over the flash samples,
+/// walked through a skip pyramid built into `skip` (the caller's memory, on
+/// the stack of every program here). The pyramid changes no pixel: every
+/// traversal mode gives the flat walk's hits bit for bit.
+pub fn build_field<'a>(
+    scene: &FirmwareScene,
+    skip: &'a mut [u8; SKIP_BYTES],
+) -> Result<HeightField<'a>, SceneError> {
     let transform = scene
         .objects
         .first()
         .map(|o| o.transform)
         .ok_or(SceneError::Capacity)?;
-    Ok(HeightField::new(
+    let field = HeightField::new(
         Samples::U8(&FIELD_SAMPLES),
         FIELD_WIDTH,
         FIELD_DEPTH,
         HeightConvention::Gray8,
     )?
-    .with_transform(transform))
+    .with_transform(transform);
+    let grid = SkipGrid::build(
+        &field,
+        SkipLayout::pyramid(FIELD_WIDTH, FIELD_DEPTH, 2),
+        skip,
+    )?;
+    Ok(field.with_skip(grid)?)
 }
 
 /// Writes the render's work counters as `key=value` fields (every program

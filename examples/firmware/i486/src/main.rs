@@ -344,7 +344,8 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
         Ok(s) => s,
         Err(_) => fail("scene"),
     };
-    let fields = match scene::build_field(&model) {
+    let mut skip = [0u8; scene::SKIP_BYTES];
+    let fields = match scene::build_field(&model, &mut skip) {
         Ok(f) => [f],
         Err(_) => fail("field"),
     };
