@@ -166,7 +166,8 @@ fn section_a(runs: usize) {
     .unwrap();
     let loaded = load_fields(&scene, &scene_path).unwrap();
     let fields = build_fields(&scene, &loaded).unwrap();
-    let layout = SkipLayout::pyramid(512, 512, 3);
+    // The layout the `render` command builds (fan-out 4).
+    let layout = SkipLayout::pyramid(512, 512, 2);
     let buf = skip_buffer(&fields[0], layout);
     let settings = RenderSettings::new(W, H);
     let mut line = vec![Rgb888::default(); W as usize];
@@ -177,7 +178,7 @@ fn section_a(runs: usize) {
             fields[0].clone().with_traversal(Traversal::Flat),
         ),
         (
-            "hfray pyramid (8-cell blocks, 2 levels)",
+            "hfray pyramid (fan-out 4, 4 levels)",
             with_grid(&fields[0], &buf, Traversal::Hierarchy),
         ),
     ] {
@@ -263,6 +264,10 @@ fn section_c(runs: usize) {
                 "pyramid fan-out 4",
                 Some((SkipLayout::pyramid(n, n, 2), Traversal::Hierarchy)),
             ),
+            (
+                "max-mipmap (fan-out 2)",
+                Some((SkipLayout::pyramid(n, n, 1), Traversal::Hierarchy)),
+            ),
         ];
         for (k, (name, layout)) in layouts.iter().enumerate() {
             let buf = layout.map(|(l, _)| skip_buffer(&field, l));
@@ -309,12 +314,12 @@ fn section_d(runs: usize) {
         .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
     let rays = primary_rays();
     let blocks = skip_buffer(&field, SkipLayout::blocks(3));
-    let pyr = skip_buffer(&field, SkipLayout::pyramid(n, n, 3));
+    let pyr = skip_buffer(&field, SkipLayout::pyramid(n, n, 2));
     for (name, f) in [
         ("flat walk", field.clone().with_traversal(Traversal::Flat)),
         ("blocks 8", with_grid(&field, &blocks, Traversal::Blocks)),
         (
-            "pyramid fan-out 8",
+            "pyramid fan-out 4",
             with_grid(&field, &pyr, Traversal::Hierarchy),
         ),
     ] {
@@ -345,7 +350,7 @@ fn section_e(runs: usize) {
     let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
         .unwrap()
         .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
-    let buf = skip_buffer(&field, SkipLayout::pyramid(n, n, 3));
+    let buf = skip_buffer(&field, SkipLayout::pyramid(n, n, 2));
     let f = with_grid(&field, &buf, Traversal::Hierarchy);
     let eye = Vec3::new(0.5, 0.22, 0.02);
     let (forward, right, up) = (

@@ -74,7 +74,7 @@ fn section(runs: usize, rays: &[Ray]) {
             )
         })
         .collect();
-    let layout = SkipLayout::pyramid(n, n, 3);
+    let layout = SkipLayout::pyramid(n, n, 2);
     let mut buf = vec![0u8; SkipGrid::bytes_needed_for(&field, layout).unwrap()];
     let grid = SkipGrid::build(&field, layout, &mut buf).unwrap();
     let ours = field.clone().with_skip(grid).unwrap();
