@@ -178,31 +178,5 @@ fn bad_arguments_exit_1_with_a_message() {
     }
 }
 
-#[test]
-fn threads_and_bands_give_the_same_bytes() {
-    let dir = temp_dir("threads");
-    let one = dir.join("one.tga");
-    let three = dir.join("three.tga");
-    let common = [
-        "examples/scenes/thesis.pov",
-        "--width",
-        "80",
-        "--height",
-        "50",
-    ];
-    let mut a = common.to_vec();
-    a.extend(["-o", one.to_str().unwrap()]);
-    assert!(run(&a).status.success());
-    let mut b = common.to_vec();
-    b.extend(["-o", three.to_str().unwrap(), "--threads", "3"]);
-    assert!(run(&b).status.success());
-    let whole = std::fs::read(&one).unwrap();
-    assert_eq!(whole, std::fs::read(&three).unwrap());
-    // Rows 20..50 on their own are the same rows of the whole image.
-    let band = dir.join("band.tga");
-    let mut c = common.to_vec();
-    c.extend(["-o", band.to_str().unwrap(), "--rows", "20..50"]);
-    assert!(run(&c).status.success());
-    let band = std::fs::read(&band).unwrap();
-    assert_eq!(&band[18..], &whole[18 + 20 * 80 * 3..]);
-}
+// Threads and row bands: `tests/sinks.rs` (`render_command_threads_*`,
+// `render_command_row_bands_*`), on the default and the thesis scenes.

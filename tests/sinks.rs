@@ -429,9 +429,21 @@ fn render_command() -> &'static Path {
 
 /// Runs the render command on the default scene and returns the TGA bytes.
 fn run_render(dir: &Path, name: &str, w: u32, h: u32, extra: &[&str]) -> Vec<u8> {
+    run_render_scene(SCENE, dir, name, w, h, extra)
+}
+
+/// Runs the render command on `scene` and returns the TGA bytes.
+fn run_render_scene(
+    scene: &str,
+    dir: &Path,
+    name: &str,
+    w: u32,
+    h: u32,
+    extra: &[&str],
+) -> Vec<u8> {
     let out = dir.join(name);
     let result = Command::new(render_command())
-        .arg(SCENE)
+        .arg(scene)
         .arg("-o")
         .arg(&out)
         .args(["--width", &w.to_string(), "--height", &h.to_string()])
@@ -472,6 +484,14 @@ fn render_command_threads_give_identical_bytes() {
         );
         assert!(one == many, "--threads {threads} differs from --threads 1");
     }
+    // A scene with water, a reflective sea plane and shadows, too.
+    let thesis = "examples/scenes/thesis.pov";
+    let thesis_one = run_render_scene(thesis, &dir, "s1.tga", 80, 50, &["--threads", "1"]);
+    let thesis_three = run_render_scene(thesis, &dir, "s3.tga", 80, 50, &["--threads", "3"]);
+    assert!(
+        thesis_one == thesis_three,
+        "thesis.pov: --threads 3 differs from --threads 1"
+    );
     // And the command agrees with an in-process render, byte for byte
     // (TGA rows are BGR).
     let inproc = with_default_scene(w, h, |scene, fields| {

@@ -15,6 +15,9 @@
 #   T+full, T+full:plane-1, T+full:plane-5
 #                                      the `full` build (hfray's primitives): its .text,
 #                                      and a reflective plane under the field at depth 1, 5
+#   thumbv6m-none-eabi/microbit-minimal[:reflect-5]
+#                                      the minimal M0 build (no secondary rays): the
+#                                      base frame, and reflect-5 refused with NotBuilt
 # `--base` runs the base scene of the height-field-only build only.
 #
 # Exits non-zero if a tool or target is missing (saying which), a build or
@@ -101,6 +104,8 @@ i486_dir="$(target_dir "$here/i486")"
 # The `full` builds go to their own target directories, so both binaries
 # of each target exist side by side.
 fw_full_dir="$fw_dir/full"
+# The minimal M0 build (no reflection or transparency: `--no-default-features`).
+fw_min_dir="$fw_dir/minimal"
 i486_full_dir="$i486_dir/full"
 
 # --- builds ---------------------------------------------------------------
@@ -116,6 +121,7 @@ build "i486" bash -c "cd '$here/i486' && cargo build --release --target i586-unk
 if ((all)); then
     build "Cortex-M firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv6m-none-eabi --target thumbv7em-none-eabihf"
     build "i486 (full)" bash -c "cd '$here/i486' && cargo build --release --features full --target-dir '$i486_full_dir' --target i586-unknown-linux-gnu"
+    build "Cortex-M0 firmware (minimal)" bash -c "cd '$here' && cargo build --release --no-default-features --target-dir '$fw_min_dir' --target thumbv6m-none-eabi"
 fi
 plugin="$out/libinsn_count.so"
 build "instruction-count plugin" gcc -O2 -shared -fPIC -fvisibility=hidden -o "$plugin" "$here/tools/qemu-insn-count/insn_count.c"
@@ -248,6 +254,37 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
             "scene=$scene build=$build $(work "$line")"
     done
 done
+
+# --- minimal M0 build: the same base frame; a mirror scene is refused -------
+# Built without `secondary-rays`, the firmware must draw the base frame
+# byte for byte and answer the reflect-5 scene with `NotBuilt`, never with a
+# different picture.
+if ((all)); then
+    elf="$fw_min_dir/thumbv6m-none-eabi/release/hfray-firmware"
+    for scene in base reflect-5; do
+        t="thumbv6m-none-eabi/microbit-minimal"
+        [[ "$scene" != base ]] && t+=":$scene"
+        tag="microbit-minimal-$scene"
+        rm -rf "$scratch" && mkdir -p "$scratch"
+        line="$(cd "$scratch" && timeout "$run_timeout" qemu-system-arm -machine microbit -nographic \
+            -semihosting-config "enable=on,target=native,arg=hfray-firmware,arg=$scene" \
+            -plugin "$plugin,out=$out/insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" \
+            -kernel "$elf")" || true
+        insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+        if [[ "$scene" == base ]]; then
+            ppm="$out/frame-microbit-minimal.ppm"
+            mv -f "$scratch/frame-microbit.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
+            compare "$t" base "$line" "$ppm"
+            echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[base]}" \
+                "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
+                "instructions=${insns:-?} image_bytes=$(image_bytes "$elf") scene=base build=minimal $(work "$line")"
+        elif [[ "$line" == *"error=render:NotBuilt"* ]]; then
+            echo "target=$t refused=NotBuilt scene=$scene build=minimal"
+        else
+            fail "$t: expected error=render:NotBuilt, got: $line"
+        fi
+    done
+fi
 
 # --- i486: qemu-i386 -cpu 486 (instruction set, counts) and native (8 MiB) ---
 for r in "${runs[@]}"; do
