@@ -178,7 +178,19 @@
 //! backwards, and it runs at most `(W−1) + (D−1)` steps. Cells the ray
 //! passes above (or below, or under water) are skipped by comparing its
 //! entry and exit heights with the cell's corners. The walk is generic over
-//! [`Real`] (`f32`, `f64`).
+//! [`Real`] (`f32`, `f64`, and fixed point `Q16`/`Q32` for chips without
+//! an FPU, chosen per field with [`HeightField::with_numeric`]).
+//!
+//! **Skip pyramid** ([`skip`]). A [`SkipGrid`] is a pyramid of per-block
+//! minimum and maximum samples in memory the caller provides (or in
+//! flash). With one attached ([`HeightField::with_skip`]) the walk becomes
+//! a hierarchical DDA: blocks the ray clears are stepped over at their own
+//! level, and the walk descends only into blocks it cannot cull, landing on
+//! exactly the cell, entry and `t` of the cell-by-cell walk, so every
+//! [`Traversal`] mode returns the same bits. Primary rays traced up an
+//! image column can also start where the previous ray of the column
+//! stopped ([`HeightField::intersect_coherent`], with a [`ColumnHint`] per
+//! column) wherever that provably gives the same hit.
 //!
 //! **Cell test** (internal). Inside a cell the ray's height above the
 //! surface, `g(t) = y(t) − h(u(t), v(t))`, is piecewise linear (one piece
@@ -250,6 +262,11 @@
 //!
 //! - `primitives` (default): the analytic shapes of [`shapes`]; without
 //!   it a scene with one is an error naming the object.
+//! - `secondary-rays` (default): reflection and transparency; without it
+//!   a scene that needs them is refused with [`RenderError::NotBuilt`],
+//!   never rendered differently.
+//! - `fixed` (default): the fixed-point walks `Q16` and `Q32` (on the
+//!   `fixed` crate); `f64-walk` (default): the `f64` walk.
 //! - `embedded-graphics`: [`sink`]'s `DrawTargetSink` for
 //!   `embedded-graphics-core` `DrawTarget`s (no_std).
 //! - `std`: enables nothing yet (reserved for `std::error::Error` impls);

@@ -17,12 +17,17 @@
 //! the grid, local coordinates in `[0, 1]`, finite normals (unit length
 //! when `try_with_transform` accepts the placement) and palette colours
 //! in `[0, 1]`. The `f64` path runs on the same ray with the same
-//! bound and finiteness checks.
+//! bound and finiteness checks. The hierarchical walk over a skip pyramid
+//! gives the flat walk's bits, and so does `intersect_coherent` on a column
+//! of three rays sharing the ray's origin and `x`, `z` direction.
 #![no_main]
 
 use arbitrary::Arbitrary;
 use hfray::glam::{DAffine3, DVec3, Vec3};
-use hfray::{Counters, HeightConvention, HeightField, Ray, Samples, Transform};
+use hfray::{
+    ColumnHint, Counters, HeightConvention, HeightField, Ray, Samples, SkipGrid, SkipLayout,
+    Transform, Traversal,
+};
 use libfuzzer_sys::fuzz_target;
 
 const SPECIAL_F32: [f32; 24] = [
@@ -284,6 +289,21 @@ fuzz_target!(|input: Input| {
     let cond = condition(&(grid * *transform.to_object()));
     let extent = (hi.as_dvec3() - lo.as_dvec3()).length() + hi.abs().max(lo.abs()).as_dvec3().length();
 
+    // A skip pyramid (fan-out 2, 4 or 8) for the hierarchical walk.
+    let layout = SkipLayout::pyramid(w, d, 1 + input.width % 3);
+    let mut skip = vec![0u8; SkipGrid::bytes_needed_for(&field, layout).expect("valid layout")];
+    let grid = SkipGrid::build(&field, layout, &mut skip).expect("sized buffer");
+    let hier = field
+        .clone()
+        .with_skip(grid)
+        .expect("grid of this field")
+        .with_traversal(Traversal::Hierarchy);
+    let flat = field.clone().with_traversal(Traversal::Flat);
+    // Bit-for-bit equality, NaN included.
+    let same = |a: &Option<hfray::FieldHit>, b: &Option<hfray::FieldHit>| {
+        format!("{a:?}") == format!("{b:?}")
+    };
+
     for case in input.cases.iter().take(16) {
         let (o, dir) = match &case.ray {
             RayIn::Raw { o, d } => (
@@ -383,6 +403,20 @@ fuzz_target!(|input: Input| {
                     "hit {p:?} outside bounds {lo:?}..{hi:?} (tol {tol})"
                 );
             }
+        }
+        // Every mode, and column coherence, give the flat walk's answer.
+        let flat_hit = flat.intersect(&ray, t_min, t_max);
+        assert!(same(&flat_hit, &hier.intersect(&ray, t_min, t_max)), "hierarchy differs from flat");
+        let mut hint = ColumnHint::new();
+        let mut cc = Counters::default();
+        let lift = dir.y.abs().max(0.25);
+        for k in [-1.0f32, 0.0, 0.5] {
+            let r = Ray::new(o, Vec3::new(dir.x, dir.y + k * lift, dir.z));
+            let coherent = hier.intersect_coherent(&r, t_min, t_max, &mut hint, &mut cc);
+            assert!(
+                same(&coherent, &flat.intersect(&r, t_min, t_max)),
+                "coherent walk differs from flat"
+            );
         }
         // The f64 path on the same ray.
         let mut c64 = Counters::default();
