@@ -438,6 +438,32 @@ impl<'a> SkipGrid<'a> {
         self.sample_bytes
     }
 
+    /// [`raw_bounds`](Self::raw_bounds) for the walk, which asks only for
+    /// blocks of its levels (`1..=levels`) inside the field: one bounds
+    /// check, no level check (the index is reduced into the level arrays).
+    /// Panics if out of range.
+    #[inline(always)]
+    pub(crate) fn walk_bounds(&self, level: u32, bi: u32, bj: u32) -> (u32, u32) {
+        let l = (level.wrapping_sub(1) % MAX_LEVELS as u32) as usize;
+        let sb = self.sample_bytes as usize;
+        let index = (bj as usize * self.blocks_u[l] as usize + bi as usize) * 2 * sb
+            + self.offsets[l] as usize;
+        if sb == 1 {
+            match self.bytes.get(index..index + 2) {
+                Some(&[lo, hi]) => (lo as u32, hi as u32),
+                _ => block_out_of_range(level, bi, bj),
+            }
+        } else {
+            match self.bytes.get(index..index + 4) {
+                Some(&[a, b, c, d]) => (
+                    u16::from_le_bytes([a, b]) as u32,
+                    u16::from_le_bytes([c, d]) as u32,
+                ),
+                _ => block_out_of_range(level, bi, bj),
+            }
+        }
+    }
+
     /// `(min, max)` raw sample of block `(bi, bj)` of `level` (1-based).
     /// Panics if out of range.
     #[inline(always)]
@@ -483,6 +509,12 @@ fn put(buffer: &mut [u8], offset: u32, bu: u32, sb: u8, bi: u32, bj: u32, lo: u3
         buffer[index..index + 2].copy_from_slice(&(lo as u16).to_le_bytes());
         buffer[index + 2..index + 4].copy_from_slice(&(hi as u16).to_le_bytes());
     }
+}
+
+#[cold]
+#[inline(never)]
+fn block_out_of_range(level: u32, bi: u32, bj: u32) -> ! {
+    panic!("skip block ({bi}, {bj}) of level {level} is outside the grid")
 }
 
 #[inline(always)]

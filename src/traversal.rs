@@ -334,14 +334,13 @@ impl<S: Real> Walk<S> {
         let y_a = c.y_a;
         let y_b = o[1] + t_b * d[1];
         let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
-        let culled = c_max < self.water_units
-            || y_low > S::from_height_units(c_max)
+        let culled = y_low > S::from_height_units(c_max)
             || y_high < S::from_height_units(c_min)
-            || y_high < self.water;
+            || (self.wet && (c_max < self.water_units || y_high < self.water));
         if !culled {
             let cell = Cell {
-                origin: &o,
-                dir: &d,
+                origin: &self.o,
+                dir: &self.d,
                 cu: S::from_i32(i),
                 cv: S::from_i32(j),
                 corners: Corners {
@@ -603,7 +602,7 @@ impl<S: Real> Walk<S> {
             // `y` is never NaN here (finite ray, finite `t`), so these are
             // the ordered pair of the cell cull.
             let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
-            let (lo, hi) = skip.raw_bounds(level as u8, bi as u32, bj as u32);
+            let (lo, hi) = skip.walk_bounds(level, bi as u32, bj as u32);
             let (b_min, b_max) = (lo * mult, hi * mult);
             let culled = y_low > S::from_height_units(b_max)
                 || y_high < S::from_height_units(b_min)
