@@ -333,7 +333,8 @@ impl<S: Real> Walk<S> {
         let c_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
         let y_a = c.y_a;
         let y_b = o[1] + t_b * d[1];
-        let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
+        // `y` is never NaN (finite ray, finite `t`): the ordered pair.
+        let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
         let culled = y_low > S::from_height_units(c_max)
             || y_high < S::from_height_units(c_min)
             || (self.wet && (c_max < self.water_units || y_high < self.water));
@@ -567,10 +568,17 @@ impl<S: Real> Walk<S> {
         let mut level = top;
         // Each pass visits a cell (at most cells_u + cells_v + 1), steps a
         // block (advancing at least one cell), or descends one level (at
-        // most `top` per step or visit).
-        let max_passes = (cells_u + cells_v + 1) as u64 * (top as u64 + 2) + 1;
-        for _ in 0..max_passes {
-            if level == 0 {
+        // most `top` per step or visit). Every iteration of the loops below
+        // spends one pass of `passes`, and returns when none is left.
+        let mut passes = (cells_u + cells_v + 1) as u64 * (top as u64 + 2) + 1;
+        'walk: loop {
+            // Cells, while no block needs testing (the branch sites of the
+            // cell and block loops stay apart: their outcomes differ).
+            while level == 0 {
+                if passes == 0 {
+                    return None;
+                }
+                passes -= 1;
                 let (pi, pj) = (c.i, c.j);
                 match self.visit(field, &mut c, counters) {
                     Visit::Hit(h) => {
@@ -583,65 +591,75 @@ impl<S: Real> Walk<S> {
                 // Test again, from the coarsest, every level whose block
                 // the step left.
                 level = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
-                continue;
             }
-            counters.blocks += 1;
-            let shift = log2 * level;
-            let (bi, bj) = (c.i >> shift, c.j >> shift);
-            // The grid lines the block is left by, along u and v: the far
-            // side of its last column (row), as `au.exit(last column)`
-            // computes it. `(b + 1) << shift` is at most 2^20 + 2^30: no
-            // overflow. (Parallel axis: any line; its exit is "never".)
-            let u_edge = ((bi + off_u) << shift).min(cells_u);
-            let v_edge = ((bj + off_v) << shift).min(cells_v);
-            let (tu_edge, tv_edge) = (self.au.at_line(u_edge, o[0]), self.av.at_line(v_edge, o[2]));
-            let t_block = tu_edge.min(tv_edge);
-            let t_end = t_block.min(self.t_far).max(c.t_a);
-            let y_b = o[1] + t_end * d[1];
-            let y_a = c.y_a;
-            // `y` is never NaN here (finite ray, finite `t`), so these are
-            // the ordered pair of the cell cull.
-            let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
-            let (lo, hi) = skip.walk_bounds(level, bi as u32, bj as u32);
-            let (b_min, b_max) = (lo * mult, hi * mult);
-            let culled = y_low > S::from_height_units(b_max)
-                || y_high < S::from_height_units(b_min)
-                || (self.wet && (b_max < self.water_units || y_high < self.water));
-            if !culled {
-                if !exact {
-                    c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, log2);
-                    exact = true;
+            // Blocks, from `level ≥ 1` down.
+            loop {
+                if passes == 0 {
+                    return None;
                 }
-                level -= 1;
-                continue;
+                passes -= 1;
+                counters.blocks += 1;
+                let shift = log2 * level;
+                let (bi, bj) = (c.i >> shift, c.j >> shift);
+                // The grid lines the block is left by, along u and v: the far
+                // side of its last column (row), as `au.exit(last column)`
+                // computes it. `(b + 1) << shift` is at most 2^20 + 2^30: no
+                // overflow. (Parallel axis: any line; its exit is "never".)
+                let u_edge = ((bi + off_u) << shift).min(cells_u);
+                let v_edge = ((bj + off_v) << shift).min(cells_v);
+                let (tu_edge, tv_edge) =
+                    (self.au.at_line(u_edge, o[0]), self.av.at_line(v_edge, o[2]));
+                let t_block = tu_edge.min(tv_edge);
+                let t_end = t_block.min(self.t_far).max(c.t_a);
+                let y_b = o[1] + t_end * d[1];
+                let y_a = c.y_a;
+                // `y` is never NaN here (finite ray, finite `t`), so these are
+                // the ordered pair of the cell cull.
+                let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
+                let (lo, hi) = skip.walk_bounds(level, bi as u32, bj as u32);
+                let (b_min, b_max) = (lo * mult, hi * mult);
+                let culled = y_low > S::from_height_units(b_max)
+                    || y_high < S::from_height_units(b_min)
+                    || (self.wet && (b_max < self.water_units || y_high < self.water));
+                if !culled {
+                    if !exact {
+                        c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, log2);
+                        exact = true;
+                    }
+                    level -= 1;
+                    if level == 0 {
+                        continue 'walk;
+                    }
+                    continue;
+                }
+                if self.t_far <= t_block {
+                    return None; // the walk ends inside the block
+                }
+                // The next block, through the cell the step enters along each
+                // axis it crosses.
+                let (pi, pj) = (c.i, c.j);
+                if tu_edge < tv_edge {
+                    side = Exit::U;
+                    c.i = u_edge - down_u;
+                } else if tv_edge < tu_edge {
+                    side = Exit::V;
+                    c.j = v_edge - down_v;
+                } else {
+                    side = Exit::Corner;
+                    c.i = u_edge - down_u;
+                    c.j = v_edge - down_v;
+                }
+                if c.i < 0 || c.j < 0 || c.i >= cells_u || c.j >= cells_v {
+                    return None; // the walk leaves the field
+                }
+                exact = false;
+                // `t_far > t_block`: `t_end` is `max(t_block, t_a)`.
+                c.t_a = t_end;
+                c.y_a = y_b;
+                // At least `level`: the step left the block of `level`.
+                level = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
             }
-            if self.t_far <= t_block {
-                return None; // the walk ends inside the block
-            }
-            // The next block, through the cell the step enters along each
-            // axis it crosses.
-            let (pi, pj) = (c.i, c.j);
-            if tu_edge < tv_edge {
-                side = Exit::U;
-                c.i = u_edge - down_u;
-            } else if tv_edge < tu_edge {
-                side = Exit::V;
-                c.j = v_edge - down_v;
-            } else {
-                side = Exit::Corner;
-                c.i = u_edge - down_u;
-                c.j = v_edge - down_v;
-            }
-            if c.i < 0 || c.j < 0 || c.i >= cells_u || c.j >= cells_v {
-                return None; // the walk leaves the field
-            }
-            exact = false;
-            // `t_far > t_block`: `t_end` is `max(t_block, t_a)`.
-            c.t_a = t_end;
-            c.y_a = y_b;
-            level = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
         }
-        None
     }
 
     /// The flat walk's cell on entering, at `t_a` through `side`, a block
