@@ -445,21 +445,24 @@ impl<'a> SkipGrid<'a> {
     #[inline(always)]
     pub(crate) fn walk_bounds(&self, level: u32, bi: u32, bj: u32) -> (u32, u32) {
         let l = (level.wrapping_sub(1) % MAX_LEVELS as u32) as usize;
-        let sb = self.sample_bytes as usize;
-        let index = (bj as usize * self.blocks_u[l] as usize + bi as usize) * 2 * sb
-            + self.offsets[l] as usize;
+        let sb = self.sample_bytes as u32;
+        // In `u32` (the grid's size is, see `plan`), so that `index + 3`
+        // cannot wrap and one check covers the entry.
+        let index = ((bj.wrapping_mul(self.blocks_u[l]).wrapping_add(bi)).wrapping_mul(2 * sb))
+            .wrapping_add(self.offsets[l]) as usize;
+        let bytes = self.bytes;
         if sb == 1 {
-            match self.bytes.get(index..index + 2) {
-                Some(&[lo, hi]) => (lo as u32, hi as u32),
-                _ => block_out_of_range(level, bi, bj),
+            match bytes.get(index + 1) {
+                Some(&hi) => (bytes[index] as u32, hi as u32),
+                None => block_out_of_range(level, bi, bj),
             }
         } else {
-            match self.bytes.get(index..index + 4) {
-                Some(&[a, b, c, d]) => (
-                    u16::from_le_bytes([a, b]) as u32,
-                    u16::from_le_bytes([c, d]) as u32,
+            match bytes.get(index + 3) {
+                Some(&d) => (
+                    u16::from_le_bytes([bytes[index], bytes[index + 1]]) as u32,
+                    u16::from_le_bytes([bytes[index + 2], d]) as u32,
                 ),
-                _ => block_out_of_range(level, bi, bj),
+                None => block_out_of_range(level, bi, bj),
             }
         }
     }
