@@ -458,8 +458,9 @@ impl<'a> HeightField<'a> {
         let lower = (self.depth - 1 - z) as usize * w + x as usize;
         let upper = lower.wrapping_sub(w);
         let m = self.convention.multiplier();
-        // `upper < lower` (z < depth − 1): the checks of `lower + 1` and
-        // `upper` cover all four.
+        // `upper < lower` (z < depth − 1), subtracted without an overflow
+        // check (a wrapped `upper` fails its bounds check): the check of
+        // `lower + 1` covers `lower`, three checks for four samples.
         match self.samples {
             Samples::U8(s) => {
                 let (b, c) = (s[lower + 1], s[upper]);
