@@ -533,6 +533,19 @@ impl<S: Real> Walk<S> {
     /// last row just before that parameter, so it takes the corner step
     /// into the diagonal block. Everything else (the cull, its `t` range)
     /// is [`Walk::walk_skip`]'s, whose proof carries over.
+    ///
+    /// Bookkeeping. The current block is named by a cell of it (`c.i`,
+    /// `c.j`, shifted by the level's `log2 · level`), so a block step only
+    /// moves the coordinate it crosses, to the cell beyond the crossed grid
+    /// line (the flat walk's column, or row, there), and leaving the field
+    /// is that cell leaving it. After a step or a cell visit, the blocks to
+    /// test again are those of every level whose block changed: up to the
+    /// level of the highest bit in which the old and new cells differ
+    /// ([`changed_level`], the closed form of "ascend while the parent
+    /// changed"). The `y` at a block step's `t` is the `y_b` the cull
+    /// computed at that same `t`. The water tests of both culls are skipped
+    /// for a field without water (`wet`), where the height tests imply
+    /// them.
     #[allow(clippy::too_many_arguments)]
     fn walk_hdda(
         &self,
