@@ -456,21 +456,20 @@ impl<'a> HeightField<'a> {
         let w = self.width as usize;
         // Grid row z is image row depth - 1 - z; grid row z + 1 the one above.
         let lower = (self.depth - 1 - z) as usize * w + x as usize;
-        let upper = lower - w;
+        let upper = lower.wrapping_sub(w);
         let m = self.convention.multiplier();
+        // `upper < lower` (z < depth − 1), subtracted without an overflow
+        // check (a wrapped `upper` fails its bounds check): the check of
+        // `lower + 1` covers `lower`, three checks for four samples.
         match self.samples {
-            Samples::U8(s) => [
-                s[lower] as u32 * m,
-                s[lower + 1] as u32 * m,
-                s[upper] as u32 * m,
-                s[upper + 1] as u32 * m,
-            ],
-            Samples::U16(s) => [
-                s[lower] as u32 * m,
-                s[lower + 1] as u32 * m,
-                s[upper] as u32 * m,
-                s[upper + 1] as u32 * m,
-            ],
+            Samples::U8(s) => {
+                let (b, c) = (s[lower + 1], s[upper]);
+                [s[lower], b, c, s[upper + 1]].map(|v| v as u32 * m)
+            }
+            Samples::U16(s) => {
+                let (b, c) = (s[lower + 1], s[upper]);
+                [s[lower], b, c, s[upper + 1]].map(|v| v as u32 * m)
+            }
         }
     }
 

@@ -438,6 +438,35 @@ impl<'a> SkipGrid<'a> {
         self.sample_bytes
     }
 
+    /// [`raw_bounds`](Self::raw_bounds) for the walk, which asks only for
+    /// blocks of its levels (`1..=levels`) inside the field: one bounds
+    /// check, no level check (the index is reduced into the level arrays).
+    /// Panics if out of range.
+    #[inline(always)]
+    pub(crate) fn walk_bounds(&self, level: u32, bi: u32, bj: u32) -> (u32, u32) {
+        let l = (level.wrapping_sub(1) % MAX_LEVELS as u32) as usize;
+        let sb = self.sample_bytes as u32;
+        // In `u32` (the grid's size is, see `plan`), so that `index + 3`
+        // cannot wrap and one check covers the entry.
+        let index = ((bj.wrapping_mul(self.blocks_u[l]).wrapping_add(bi)).wrapping_mul(2 * sb))
+            .wrapping_add(self.offsets[l]) as usize;
+        let bytes = self.bytes;
+        if sb == 1 {
+            match bytes.get(index + 1) {
+                Some(&hi) => (bytes[index] as u32, hi as u32),
+                None => block_out_of_range(level, bi, bj),
+            }
+        } else {
+            match bytes.get(index + 3) {
+                Some(&d) => (
+                    u16::from_le_bytes([bytes[index], bytes[index + 1]]) as u32,
+                    u16::from_le_bytes([bytes[index + 2], d]) as u32,
+                ),
+                None => block_out_of_range(level, bi, bj),
+            }
+        }
+    }
+
     /// `(min, max)` raw sample of block `(bi, bj)` of `level` (1-based).
     /// Panics if out of range.
     #[inline(always)]
@@ -483,6 +512,12 @@ fn put(buffer: &mut [u8], offset: u32, bu: u32, sb: u8, bi: u32, bj: u32, lo: u3
         buffer[index..index + 2].copy_from_slice(&(lo as u16).to_le_bytes());
         buffer[index + 2..index + 4].copy_from_slice(&(hi as u16).to_le_bytes());
     }
+}
+
+#[cold]
+#[inline(never)]
+fn block_out_of_range(level: u32, bi: u32, bj: u32) -> ! {
+    panic!("skip block ({bi}, {bj}) of level {level} is outside the grid")
 }
 
 #[inline(always)]

@@ -123,12 +123,36 @@ impl<S: Real> Axis<S> {
     /// Parameter at which the ray leaves cell `cell` along this axis.
     #[inline(always)]
     fn exit(&self, cell: i32, origin: S) -> S {
+        self.at_line(cell + self.off, origin)
+    }
+
+    /// Parameter at which the ray crosses grid line `line` along this axis
+    /// ("never" when parallel).
+    #[inline(always)]
+    fn at_line(&self, line: i32, origin: S) -> S {
         if self.step == 0 {
             S::MAX
         } else {
-            (S::from_i32(cell + self.off) - origin) * self.inv
+            (S::from_i32(line) - origin) * self.inv
         }
     }
+}
+
+/// `⌈256 / log2⌉`, for [`changed_level`]: `(h · it) >> 8 = ⌊h / log2⌋` for
+/// every `h < 32` and `log2` in `1..=8` (unit-checked).
+#[inline]
+fn level_recip(log2: u32) -> u32 {
+    256u32.div_ceil(log2.max(1))
+}
+
+/// The coarsest level, at most `top`, whose block (of `2^(log2·level)`
+/// cells per side, aligned) differs between two cells whose coordinates
+/// differ in the bits `diff`: the level of `diff`'s highest set bit
+/// (0 when `diff` is 0). `recip` is [`level_recip`]`(log2)`.
+#[inline(always)]
+fn changed_level(diff: u32, recip: u32, top: u32) -> u32 {
+    let high = 31 - (diff | 1).leading_zeros();
+    ((high * recip) >> 8).min(top)
 }
 
 /// Clips `[t_min, t_max]` to the slab `lo..=hi` along one axis.
@@ -199,6 +223,10 @@ struct Walk<S> {
     cells_v: i32,
     water: S,
     water_units: u32,
+    /// The water level can cull: `false` when both water tests of the culls
+    /// (`units < water_units`, `y < water`) are implied by the height tests
+    /// (`water_units = 0` and `water ≤ 0`, the height of 0 units).
+    wet: bool,
     /// `v` boundaries are strictly monotone: blocks are left by the v-major
     /// rule of [`block_exit`] (else by the u-major one).
     v_strict: bool,
@@ -305,15 +333,15 @@ impl<S: Real> Walk<S> {
         let c_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
         let y_a = c.y_a;
         let y_b = o[1] + t_b * d[1];
-        let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
-        let culled = c_max < self.water_units
-            || y_low > S::from_height_units(c_max)
+        // `y` is never NaN (finite ray, finite `t`): the ordered pair.
+        let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
+        let culled = y_low > S::from_height_units(c_max)
             || y_high < S::from_height_units(c_min)
-            || y_high < self.water;
+            || (self.wet && (c_max < self.water_units || y_high < self.water));
         if !culled {
             let cell = Cell {
-                origin: &o,
-                dir: &d,
+                origin: &self.o,
+                dir: &self.d,
                 cu: S::from_i32(i),
                 cv: S::from_i32(j),
                 corners: Corners {
@@ -505,6 +533,19 @@ impl<S: Real> Walk<S> {
     /// last row just before that parameter, so it takes the corner step
     /// into the diagonal block. Everything else (the cull, its `t` range)
     /// is [`Walk::walk_skip`]'s, whose proof carries over.
+    ///
+    /// Bookkeeping. The current block is named by a cell of it (`c.i`,
+    /// `c.j`, shifted by the level's `log2 · level`), so a block step only
+    /// moves the coordinate it crosses, to the cell beyond the crossed grid
+    /// line (the flat walk's column, or row, there), and leaving the field
+    /// is that cell leaving it. After a step or a cell visit, the blocks to
+    /// test again are those of every level whose block changed: up to the
+    /// level of the highest bit in which the old and new cells differ
+    /// ([`changed_level`], the closed form of "ascend while the parent
+    /// changed"). The `y` at a block step's `t` is the `y_b` the cull
+    /// computed at that same `t`. The water tests of both culls are skipped
+    /// for a field without water (`wet`), where the height tests imply
+    /// them.
     #[allow(clippy::too_many_arguments)]
     fn walk_hdda(
         &self,
@@ -517,23 +558,40 @@ impl<S: Real> Walk<S> {
     ) -> Option<GridHit<S>> {
         let (o, d) = (self.o, self.d);
         let (su, sv) = (self.au.step, self.av.step);
+        // The cell a block step along u (v) enters is the boundary it
+        // crosses, minus one when moving down.
+        let (down_u, down_v) = ((su < 0) as i32, (sv < 0) as i32);
+        let (off_u, off_v) = (self.au.off, self.av.off);
+        let (cells_u, cells_v) = (self.cells_u, self.cells_v);
         let log2 = skip.block_log2() as u32;
+        let recip = level_recip(log2);
+        let top = top as u32;
         let mult = field.units_per_sample();
         let (i0, j0) = (start.i, start.j);
         let mut c = self.cursor(i0, j0, start.t_a, start.entry);
-        // `c.i`, `c.j`, `c.entry` are the flat walk's cell only while
-        // `exact`; after a block step only `c.t_a`, `c.y_a` are, and `side`
-        // says how the block `(bi, bj)` of `level` was entered.
+        // The walk is in block `(c.i >> shift, c.j >> shift)` of `level`
+        // (`shift = log2 · level`; level 0: the cell). `c.i`, `c.j`,
+        // `c.entry` are the flat walk's cell only while `exact`; after a
+        // block step only `c.t_a`, `c.y_a` are, `c.i`, `c.j` are a cell of
+        // the block entered (the column, or row, the step entered along each
+        // axis it crossed; the other coordinate unchanged), and `side` says
+        // how the block was entered.
         let mut exact = true;
         let mut side = Exit::U;
-        let mut level = top as u32;
-        let (mut bi, mut bj) = (i0 >> (log2 * level), j0 >> (log2 * level));
+        let mut level = top;
         // Each pass visits a cell (at most cells_u + cells_v + 1), steps a
         // block (advancing at least one cell), or descends one level (at
-        // most `top` per step or visit).
-        let max_passes = (self.cells_u + self.cells_v + 1) as u64 * (top as u64 + 2) + 1;
-        for _ in 0..max_passes {
-            if level == 0 {
+        // most `top` per step or visit). Every iteration of the loops below
+        // spends one pass of `passes`, and returns when none is left.
+        let mut passes = (cells_u + cells_v + 1) as u64 * (top as u64 + 2) + 1;
+        'walk: loop {
+            // Cells, while no block needs testing (the branch sites of the
+            // cell and block loops stay apart: their outcomes differ).
+            while level == 0 {
+                if passes == 0 {
+                    return None;
+                }
+                passes -= 1;
                 let (pi, pj) = (c.i, c.j);
                 match self.visit(field, &mut c, counters) {
                     Visit::Hit(h) => {
@@ -545,86 +603,76 @@ impl<S: Real> Walk<S> {
                 }
                 // Test again, from the coarsest, every level whose block
                 // the step left.
-                let diff = ((pi ^ c.i) | (pj ^ c.j)) as u32;
-                while level < top as u32 && (diff >> (log2 * (level + 1))) != 0 {
-                    level += 1;
+                level = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
+            }
+            // Blocks, from `level ≥ 1` down.
+            loop {
+                if passes == 0 {
+                    return None;
                 }
-                bi = c.i >> (log2 * level);
-                bj = c.j >> (log2 * level);
-                continue;
-            }
-            counters.blocks += 1;
-            let shift = log2 * level;
-            let i_edge = match su {
-                1 => (((bi + 1) << shift) - 1).min(self.cells_u - 1),
-                -1 => bi << shift,
-                _ => c.i,
-            };
-            let j_edge = match sv {
-                1 => (((bj + 1) << shift) - 1).min(self.cells_v - 1),
-                -1 => bj << shift,
-                _ => c.j,
-            };
-            let (tu_edge, tv_edge) = (self.au.exit(i_edge, o[0]), self.av.exit(j_edge, o[2]));
-            let t_block = tu_edge.min(tv_edge);
-            let t_end = t_block.min(self.t_far).max(c.t_a);
-            let y_b = o[1] + t_end * d[1];
-            let y_a = c.y_a;
-            let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
-            let (lo, hi) = skip.raw_bounds(level as u8, bi as u32, bj as u32);
-            let (b_min, b_max) = (lo * mult, hi * mult);
-            let culled = b_max < self.water_units
-                || y_low > S::from_height_units(b_max)
-                || y_high < S::from_height_units(b_min)
-                || y_high < self.water;
-            if !culled {
-                if !exact {
-                    c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, log2);
-                    exact = true;
+                passes -= 1;
+                counters.blocks += 1;
+                let shift = log2 * level;
+                let (bi, bj) = (c.i >> shift, c.j >> shift);
+                // The grid lines the block is left by, along u and v: the far
+                // side of its last column (row), as `au.exit(last column)`
+                // computes it. `(b + 1) << shift` is at most 2^20 + 2^30: no
+                // overflow. (Parallel axis: any line; its exit is "never".)
+                let u_edge = ((bi + off_u) << shift).min(cells_u);
+                let v_edge = ((bj + off_v) << shift).min(cells_v);
+                let (tu_edge, tv_edge) =
+                    (self.au.at_line(u_edge, o[0]), self.av.at_line(v_edge, o[2]));
+                let t_block = tu_edge.min(tv_edge);
+                let t_end = t_block.min(self.t_far).max(c.t_a);
+                let y_b = o[1] + t_end * d[1];
+                let y_a = c.y_a;
+                // `y` is never NaN here (finite ray, finite `t`), so these are
+                // the ordered pair of the cell cull.
+                let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
+                let (lo, hi) = skip.walk_bounds(level, bi as u32, bj as u32);
+                let (b_min, b_max) = (lo * mult, hi * mult);
+                let culled = y_low > S::from_height_units(b_max)
+                    || y_high < S::from_height_units(b_min)
+                    || (self.wet && (b_max < self.water_units || y_high < self.water));
+                if !culled {
+                    if !exact {
+                        c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, log2);
+                        exact = true;
+                    }
+                    level -= 1;
+                    if level == 0 {
+                        continue 'walk;
+                    }
+                    continue;
                 }
-                level -= 1;
-                bi = c.i >> (log2 * level);
-                bj = c.j >> (log2 * level);
-                continue;
+                if self.t_far <= t_block {
+                    return None; // the walk ends inside the block
+                }
+                // The next block, through the cell the step enters along each
+                // axis it crosses.
+                let (pi, pj) = (c.i, c.j);
+                if tu_edge < tv_edge {
+                    side = Exit::U;
+                    c.i = u_edge - down_u;
+                } else if tv_edge < tu_edge {
+                    side = Exit::V;
+                    c.j = v_edge - down_v;
+                } else {
+                    side = Exit::Corner;
+                    c.i = u_edge - down_u;
+                    c.j = v_edge - down_v;
+                }
+                if c.i < 0 || c.j < 0 || c.i >= cells_u || c.j >= cells_v {
+                    return None; // the walk leaves the field
+                }
+                exact = false;
+                // `t_far > t_block`: `t_end` is `max(t_block, t_a)`.
+                c.t_a = t_end;
+                c.y_a = y_b;
+                // At least `level`: the step left the block of `level`.
+                level = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
             }
-            if self.t_far <= t_block {
-                return None; // the walk ends inside the block
-            }
-            // The next block, and the entered cell's column (row) along
-            // each axis the step crosses.
-            let (nbi, nbj) = if tu_edge < tv_edge {
-                side = Exit::U;
-                c.i = i_edge + su;
-                (bi + su, bj)
-            } else if tv_edge < tu_edge {
-                side = Exit::V;
-                c.j = j_edge + sv;
-                (bi, bj + sv)
-            } else {
-                side = Exit::Corner;
-                c.i = i_edge + su;
-                c.j = j_edge + sv;
-                (bi + su, bj + sv)
-            };
-            if nbi < 0
-                || nbj < 0
-                || nbi > (self.cells_u - 1) >> shift
-                || nbj > (self.cells_v - 1) >> shift
-            {
-                return None; // the walk leaves the field
-            }
-            exact = false;
-            c.t_a = t_block.max(c.t_a);
-            c.y_a = o[1] + c.t_a * d[1];
-            let diff = ((bi ^ nbi) | (bj ^ nbj)) as u32;
-            let from = level;
-            while level < top as u32 && (diff >> (log2 * (level + 1 - from))) != 0 {
-                level += 1;
-            }
-            bi = nbi >> (log2 * (level - from));
-            bj = nbj >> (log2 * (level - from));
         }
-        None
     }
 
     /// The flat walk's cell on entering, at `t_a` through `side`, a block
@@ -1128,6 +1176,7 @@ fn walk<S: Real>(
         cells_v,
         water,
         water_units,
+        wet: water_units != 0 || water > S::ZERO,
         v_strict: true,
     };
     let mut start = Resume {
@@ -1206,7 +1255,35 @@ impl<S: Real> Walk<S> {
 
 #[cfg(test)]
 mod tests {
-    use super::{block_exit, Exit};
+    use super::{block_exit, changed_level, level_recip, Exit};
+
+    /// `changed_level` against the loop it replaces (ascend while the
+    /// next level's block changed), for every layout and cell difference
+    /// bit.
+    #[test]
+    fn changed_level_equals_the_ascending_loop() {
+        for log2 in 1..=8u32 {
+            let recip = level_recip(log2);
+            for top in 1..=8u32 {
+                if log2 * top > 30 {
+                    continue;
+                }
+                for high in 0..31u32 {
+                    for diff in [0, 1u32 << high, (1u32 << high) | 1, (2u32 << high) - 1] {
+                        let mut level = 0;
+                        while level < top && (diff >> (log2 * (level + 1))) != 0 {
+                            level += 1;
+                        }
+                        assert_eq!(
+                            changed_level(diff, recip, top),
+                            level,
+                            "{log2} {top} {diff}"
+                        );
+                    }
+                }
+            }
+        }
+    }
 
     /// SplitMix64, for the randomised checks below.
     struct Rng(u64);
