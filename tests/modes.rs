@@ -352,7 +352,11 @@ fn skip_grid_sizes_and_layouts() {
 fn precomputed_grids_are_checked() {
     let data: Vec<u8> = (0..33 * 17).map(|i| (i * 7 % 251) as u8).collect();
     let field = HeightField::new(Samples::U8(&data), 33, 17, HeightConvention::Indexed).unwrap();
-    let layout = SkipLayout::pyramid(33, 17, 2);
+    // Two levels (4- and 16-cell blocks), so level 2 can be tampered with.
+    let layout = SkipLayout {
+        block_log2: 2,
+        levels: 2,
+    };
     let n = SkipGrid::bytes_needed_for(&field, layout).unwrap();
     // Wrong buffer size.
     let mut small = vec![0u8; n - 1];

@@ -277,9 +277,9 @@ pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
 }
 
 /// Bytes of the field's skip pyramid ([`SkipLayout::pyramid`] with
-/// fan-out 4: 4-, 16- and 64-cell blocks): a 16-byte header and
-/// `2 × (22·15 + 6·4 + 2·1)` bytes of block bounds.
-pub const SKIP_BYTES: usize = 728;
+/// fan-out 4: 4- and 16-cell blocks): a 16-byte header and
+/// `2 × (22·15 + 6·4)` bytes of block bounds.
+pub const SKIP_BYTES: usize = 724;
 
 /// The height field the scene's object 0 refers to, over the flash samples,
 /// walked through a skip pyramid built into `skip` (the caller's memory, on
