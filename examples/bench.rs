@@ -28,7 +28,7 @@ use std::ops::ControlFlow;
 use std::path::Path;
 use std::process::Command;
 
-use bench_common::{fractal, median_secs, PovCamera};
+use bench_common::{fractal, median, median_secs, repetitions, sample_secs, PovCamera};
 use harness::scene_io::{build_fields, load_fields, parse_file_scene};
 use hfray::glam::{DVec3, Vec3};
 use hfray::pixel::Rgb888;
@@ -104,53 +104,43 @@ fn write_pgm(path: &Path, n: u32, data: &[u8]) {
     std::fs::write(path, bytes).unwrap();
 }
 
-/// POV-Ray's single-thread trace time of bench512.pov: (wall s, CPU s),
-/// medians; `None` without povray.
-fn povray_trace(dir: &Path, runs: usize) -> Option<(f64, f64)> {
-    let mut walls = Vec::new();
-    let mut cpus = Vec::new();
-    for _ in 0..runs {
-        let out = Command::new("povray")
-            .current_dir(dir)
-            .args([
-                "+Ibench512.pov",
-                "+W320",
-                "+H200",
-                "-A",
-                "+WT1",
-                "-D",
-                "+FN",
-                "+Obench512-pov.png",
-                "File_Gamma=1.0",
-            ])
-            .output()
-            .ok()?;
-        let err = String::from_utf8_lossy(&out.stderr);
-        // "Trace Time:       0 hours  0 minutes  0 seconds (0.093 seconds)"
-        // "              using 1 thread(s) with 0.091 CPU-seconds total"
-        let mut lines = err.lines().skip_while(|l| !l.contains("Trace Time:"));
-        let trace = lines.next()?;
-        let wall: f64 = trace
-            .split('(')
-            .nth(1)?
-            .split_whitespace()
-            .next()?
-            .parse()
-            .ok()?;
-        let cpu: f64 = lines
-            .next()
-            .and_then(|l| l.split("with").nth(1))
-            .and_then(|s| s.split_whitespace().next())
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(wall);
-        walls.push(wall);
-        cpus.push(cpu);
-    }
-    let med = |v: &mut Vec<f64>| {
-        v.sort_by(|a, b| a.partial_cmp(b).unwrap());
-        v[v.len() / 2]
-    };
-    Some((med(&mut walls), med(&mut cpus)))
+/// One POV-Ray single-thread render of bench512.pov: its Trace Time
+/// (wall s, CPU s); `None` without povray.
+fn povray_trace(dir: &Path) -> Option<(f64, f64)> {
+    let out = Command::new("povray")
+        .current_dir(dir)
+        .args([
+            "+Ibench512.pov",
+            "+W320",
+            "+H200",
+            "-A",
+            "+WT1",
+            "-D",
+            "+FN",
+            "+Obench512-pov.png",
+            "File_Gamma=1.0",
+        ])
+        .output()
+        .ok()?;
+    let err = String::from_utf8_lossy(&out.stderr);
+    // "Trace Time:       0 hours  0 minutes  0 seconds (0.093 seconds)"
+    // "              using 1 thread(s) with 0.091 CPU-seconds total"
+    let mut lines = err.lines().skip_while(|l| !l.contains("Trace Time:"));
+    let trace = lines.next()?;
+    let wall: f64 = trace
+        .split('(')
+        .nth(1)?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?;
+    let cpu: f64 = lines
+        .next()
+        .and_then(|l| l.split("with").nth(1))
+        .and_then(|s| s.split_whitespace().next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(wall);
+    Some((wall, cpu))
 }
 
 fn section_a(runs: usize) {
@@ -171,52 +161,81 @@ fn section_a(runs: usize) {
     let buf = skip_buffer(&fields[0], layout);
     let settings = RenderSettings::new(W, H);
     let mut line = vec![Rgb888::default(); W as usize];
-    let mut results = Vec::new();
-    for (name, field) in [
+    let variants = [
         (
             "hfray flat walk",
             fields[0].clone().with_traversal(Traversal::Flat),
         ),
         (
-            "hfray pyramid (fan-out 4, 4 levels)",
+            "hfray pyramid (fan-out 4, the render command's)",
             with_grid(&fields[0], &buf, Traversal::Hierarchy),
         ),
-    ] {
-        let fs = [field];
-        let mut stats = None;
-        let secs = median_secs(runs, || {
-            stats = Some(
-                render(&scene, &fs, &settings, &mut line, &mut |_, _| {
-                    ControlFlow::Continue(())
-                })
-                .unwrap(),
-            );
-        });
-        let s = stats.unwrap();
-        let rays = s.primary_rays + s.shadow_rays + s.reflected_rays + s.transmitted_rays;
+    ];
+    let mut stats = None;
+    let mut frame = |f: &HeightField<'_>| {
+        let fs = [f.clone()];
+        stats = Some(
+            render(&scene, &fs, &settings, &mut line, &mut |_, _| {
+                ControlFlow::Continue(())
+            })
+            .unwrap(),
+        );
+    };
+    // Interleaved: each run renders with both walks and runs POV-Ray once,
+    // so ratios compare samples taken side by side on this shared machine.
+    let reps: Vec<usize> = variants
+        .iter()
+        .map(|(_, f)| repetitions(&mut || frame(f)))
+        .collect();
+    let have_povray = povray_trace(&dir).is_some();
+    let mut ours: Vec<Vec<f64>> = vec![Vec::new(); variants.len()];
+    let (mut pov_wall, mut pov_cpu) = (Vec::new(), Vec::new());
+    let mut ratios: Vec<Vec<f64>> = vec![Vec::new(); variants.len()];
+    for _ in 0..runs {
+        let secs: Vec<f64> = variants
+            .iter()
+            .zip(&reps)
+            .map(|((_, f), &r)| sample_secs(r, &mut || frame(f)))
+            .collect();
+        if have_povray {
+            if let Some((wall, cpu)) = povray_trace(&dir) {
+                pov_wall.push(wall);
+                pov_cpu.push(cpu);
+                for (k, s) in secs.iter().enumerate() {
+                    ratios[k].push(s / wall);
+                }
+            }
+        }
+        for (k, s) in secs.into_iter().enumerate() {
+            ours[k].push(s);
+        }
+    }
+    let s = stats.unwrap();
+    let rays = s.primary_rays + s.shadow_rays + s.reflected_rays + s.transmitted_rays;
+    for ((name, _), t) in variants.iter().zip(ours.iter_mut()) {
+        let secs = median(t);
         println!(
-            "  {name:<42} {:>8.4} s  ({} rays, {:.2} Mrays/s incl. shading)",
+            "  {name:<48} {:>8.4} s  ({} rays, {:.2} Mrays/s incl. shading)",
             secs,
             rays,
             rays as f64 / secs / 1e6
         );
-        results.push(secs);
     }
-    match povray_trace(&dir, runs) {
-        Some((wall, cpu)) => {
-            println!(
-                "  {:<42} {:>8.4} s  (Trace Time wall; {cpu:.3} CPU-seconds)",
-                "POV-Ray 3.7 +WT1 -A", wall
-            );
-            let best = results[1];
-            println!(
-                "  hfray pyramid / POV-Ray trace time = {:.3} (target <= 0.2); flat walk / POV-Ray = {:.3}",
-                best / wall,
-                results[0] / wall
-            );
-        }
-        None => println!("  POV-Ray not found (apt-get install povray): comparison skipped"),
+    if pov_wall.is_empty() {
+        println!("  POV-Ray not found (apt-get install povray): comparison skipped");
+        return;
     }
+    println!(
+        "  {:<48} {:>8.4} s  (Trace Time wall; {:.3} CPU-seconds)",
+        "POV-Ray 3.7 +WT1 -A",
+        median(&mut pov_wall),
+        median(&mut pov_cpu)
+    );
+    println!(
+        "  hfray pyramid / POV-Ray trace time = {:.3} (median of per-run ratios; target <= 0.2); flat walk / POV-Ray = {:.3}",
+        median(&mut ratios[1]),
+        median(&mut ratios[0])
+    );
 }
 
 /// (b) runs in its own crate (examples/bench_parry: parry3d brings its own
@@ -242,18 +261,19 @@ fn section_b(runs: usize) {
 fn section_c(runs: usize) {
     println!("\n(c) scaling: same view, same landscape, primary rays, f32");
     println!(
-        "  {:>6} {:>24} {:>10} {:>9} {:>8} {:>11} {:>10}",
+        "  (interleaved: each run times every field and mode once, so a ratio compares\n  \
+         samples taken side by side; the ratio column is the median of the per-run ratios)"
+    );
+    println!(
+        "  {:>6} {:>30} {:>10} {:>9} {:>8} {:>11} {:>10}",
         "field", "mode", "Mrays/s", "vs 256²", "hits", "visits/ray", "skip KiB"
     );
     let rays = primary_rays();
     let transform = Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap();
-    let mut base: Vec<f64> = Vec::new();
-    for n in [256u32, 1024, 4096] {
-        let data = fractal(n, 7);
-        let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
-            .unwrap()
-            .with_transform(transform);
-        let layouts = [
+    let sizes = [256u32, 1024, 4096];
+    let data: Vec<Vec<u8>> = sizes.iter().map(|&n| fractal(n, 7)).collect();
+    let layouts = |n: u32| {
+        [
             ("flat walk", None),
             ("blocks 8", Some((SkipLayout::blocks(3), Traversal::Blocks))),
             (
@@ -268,36 +288,77 @@ fn section_c(runs: usize) {
                 "max-mipmap (fan-out 2)",
                 Some((SkipLayout::pyramid(n, n, 1), Traversal::Hierarchy)),
             ),
-        ];
-        for (k, (name, layout)) in layouts.iter().enumerate() {
+        ]
+    };
+    // Every (field, mode) with its skip buffer, built before any timing.
+    let mut cases = Vec::new();
+    for (k, &n) in sizes.iter().enumerate() {
+        let field = HeightField::new(Samples::U8(&data[k]), n, n, HeightConvention::Gray8)
+            .unwrap()
+            .with_transform(transform);
+        for (m, (name, layout)) in layouts(n).into_iter().enumerate() {
             let buf = layout.map(|(l, _)| skip_buffer(&field, l));
-            let f = match (layout, &buf) {
-                (Some((l, mode)), Some(b)) => {
-                    let _ = l;
-                    with_grid(&field, b, *mode)
-                }
-                _ => field.clone().with_traversal(Traversal::Flat),
-            };
-            let (rate, hits, visits) = primary(&f, &rays, runs);
-            if base.len() <= k {
-                base.push(rate);
-            }
-            let levels = layout.map(|(l, _)| l.levels).unwrap_or(0);
-            println!(
-                "  {:>6} {:>24} {:>10.3} {:>8.0}% {:>8} {:>11.1} {:>10.1}",
-                format!("{n}²"),
-                if levels > 0 {
-                    format!("{name} ({levels} lv)")
-                } else {
-                    name.to_string()
-                },
-                rate / 1e6,
-                100.0 * rate / base[k],
-                hits,
-                visits,
-                buf.as_ref().map_or(0.0, |b| b.len() as f64 / 1024.0)
-            );
+            cases.push((k, m, n, name, layout, field.clone(), buf));
         }
+    }
+    let fields: Vec<HeightField<'_>> = cases
+        .iter()
+        .map(|(_, _, _, _, layout, field, buf)| match (layout, buf) {
+            (Some((_, mode)), Some(b)) => with_grid(field, b, *mode),
+            _ => field.clone().with_traversal(Traversal::Flat),
+        })
+        .collect();
+    let trace = |f: &HeightField<'_>| {
+        let mut hits = 0u64;
+        for r in &rays {
+            hits += f.intersect(r, 0.0, f32::INFINITY).is_some() as u64;
+        }
+        hits
+    };
+    let reps: Vec<usize> = fields
+        .iter()
+        .map(|f| {
+            repetitions(&mut || {
+                trace(f);
+            })
+        })
+        .collect();
+    let mut samples = vec![Vec::new(); fields.len()];
+    for _ in 0..runs {
+        for (c, f) in fields.iter().enumerate() {
+            samples[c].push(sample_secs(reps[c], &mut || {
+                trace(f);
+            }));
+        }
+    }
+    for (c, (_, m, n, name, layout, _, buf)) in cases.iter().enumerate() {
+        let base = *m; // the same mode at 256² (the first size)
+        let mut ratios: Vec<f64> = (0..runs)
+            .map(|r| samples[base][r] / samples[c][r])
+            .collect();
+        let secs = median(&mut samples[c].clone());
+        let mut counters = Counters::default();
+        let mut hits = 0u64;
+        for r in &rays {
+            hits += fields[c]
+                .intersect_counted(r, 0.0, f32::INFINITY, &mut counters)
+                .is_some() as u64;
+        }
+        let levels = layout.map(|(l, _)| l.levels).unwrap_or(0);
+        println!(
+            "  {:>6} {:>30} {:>10.3} {:>8.0}% {:>8} {:>11.1} {:>10.1}",
+            format!("{n}²"),
+            if levels > 0 {
+                format!("{name} ({levels} lv)")
+            } else {
+                name.to_string()
+            },
+            rays.len() as f64 / secs / 1e6,
+            100.0 * median(&mut ratios),
+            hits,
+            (counters.cells + counters.blocks) as f64 / rays.len() as f64,
+            buf.as_ref().map_or(0.0, |b| b.len() as f64 / 1024.0)
+        );
     }
 }
 

@@ -113,25 +113,38 @@ pub fn thread_cpu_secs() -> Option<f64> {
 /// sample repeats `f` until it has run at least 0.25 s and is divided by
 /// the repetitions.
 pub fn median_secs(runs: usize, mut f: impl FnMut()) -> f64 {
+    let reps = repetitions(&mut f);
+    let mut t: Vec<f64> = (0..runs).map(|_| sample_secs(reps, &mut f)).collect();
+    median(&mut t)
+}
+
+/// How many calls of `f` make one sample of at least 0.25 s (after one
+/// warm-up call).
+pub fn repetitions(f: &mut impl FnMut()) -> usize {
     let start = Instant::now();
     f();
     let once = start.elapsed().as_secs_f64().max(1e-6);
-    let reps = ((0.25 / once).ceil() as usize).clamp(1, 10_000);
-    let mut t: Vec<f64> = (0..runs)
-        .map(|_| {
-            let c0 = thread_cpu_secs();
-            let s = Instant::now();
-            for _ in 0..reps {
-                f();
-            }
-            let wall = s.elapsed().as_secs_f64();
-            let secs = match (c0, thread_cpu_secs()) {
-                (Some(a), Some(b)) if b > a => b - a,
-                _ => wall,
-            };
-            secs / reps as f64
-        })
-        .collect();
-    t.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    t[t.len() / 2]
+    ((0.25 / once).ceil() as usize).clamp(1, 10_000)
+}
+
+/// One sample: the time of one call of `f`, averaged over `reps` calls
+/// (thread CPU time where the OS reports it, else wall time).
+pub fn sample_secs(reps: usize, f: &mut impl FnMut()) -> f64 {
+    let c0 = thread_cpu_secs();
+    let s = Instant::now();
+    for _ in 0..reps {
+        f();
+    }
+    let wall = s.elapsed().as_secs_f64();
+    let secs = match (c0, thread_cpu_secs()) {
+        (Some(a), Some(b)) if b > a => b - a,
+        _ => wall,
+    };
+    secs / reps as f64
+}
+
+/// The median of `v` (sorted in place).
+pub fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    v[v.len() / 2]
 }
