@@ -480,9 +480,20 @@ impl<'a> HeightField<'a> {
     }
 
     /// Height of grid vertex `(x, z)` (grid row 0 at `z = 0`) in object
-    /// units. Panics if out of range.
-    pub fn height(&self, x: u32, z: u32) -> f32 {
+    /// units; `None` outside the `width × depth` grid.
+    pub fn height(&self, x: u32, z: u32) -> Option<f32> {
+        (x < self.width && z < self.depth).then(|| self.height_at(x, z))
+    }
+
+    /// [`height`](Self::height) for a vertex known to be in the grid (the
+    /// walk's and its hits' cells are).
+    fn height_at(&self, x: u32, z: u32) -> f32 {
         self.height_units(x, z) as f32 / 65536.0
+    }
+
+    /// `true` if cell `(x, z)` is one of the grid's `(width − 1) × (depth − 1)`.
+    fn has_cell(&self, x: u32, z: u32) -> bool {
+        x < self.width - 1 && z < self.depth - 1
     }
 
     pub(crate) fn water_units(&self) -> u32 {
@@ -740,13 +751,13 @@ impl<'a> HeightField<'a> {
             cell_z: hit.cell_z,
             triangle: hit.triangle,
             local: (fu, fv),
-            normal: self.geometric_normal(hit.cell_x, hit.cell_z, hit.triangle),
+            normal: self.geometric_normal_at(hit.cell_x, hit.cell_z, hit.triangle),
         }
     }
 
     /// Height of the triangle's plane at local `(fu, fv)`.
     fn surface_height(&self, x: u32, z: u32, tri: Triangle, fu: f32, fv: f32) -> f32 {
-        let h = |dx, dz| self.height(x + dx, z + dz);
+        let h = |dx, dz| self.height_at(x + dx, z + dz);
         match tri {
             Triangle::A => h(0, 0) + fu * (h(1, 0) - h(0, 0)) + fv * (h(0, 1) - h(0, 0)),
             Triangle::B => {
@@ -757,7 +768,7 @@ impl<'a> HeightField<'a> {
 
     /// Height differences of a triangle along grid u and v.
     fn triangle_slopes(&self, x: u32, z: u32, tri: Triangle) -> (f32, f32) {
-        let h = |dx, dz| self.height(x + dx, z + dz);
+        let h = |dx, dz| self.height_at(x + dx, z + dz);
         match tri {
             Triangle::A => (h(1, 0) - h(0, 0), h(0, 1) - h(0, 0)),
             Triangle::B => (h(1, 1) - h(0, 1), h(1, 1) - h(1, 0)),
@@ -770,8 +781,15 @@ impl<'a> HeightField<'a> {
         crate::transform::unit_direction(self.normal_matrix * n)
     }
 
-    /// Unit geometric normal of a triangle in world space ("up" side).
-    pub fn geometric_normal(&self, x: u32, z: u32, tri: Triangle) -> Vec3 {
+    /// Unit geometric normal of triangle `tri` of cell `(x, z)` in world
+    /// space ("up" side); `None` if the cell is not in the grid.
+    pub fn geometric_normal(&self, x: u32, z: u32, tri: Triangle) -> Option<Vec3> {
+        self.has_cell(x, z)
+            .then(|| self.geometric_normal_at(x, z, tri))
+    }
+
+    /// [`geometric_normal`](Self::geometric_normal) of a cell in the grid.
+    fn geometric_normal_at(&self, x: u32, z: u32, tri: Triangle) -> Vec3 {
         let (du, dv) = self.triangle_slopes(x, z, tri);
         self.grid_normal_to_world(Vec3::new(-du, 1.0, -dv))
     }
@@ -794,9 +812,15 @@ impl<'a> HeightField<'a> {
     /// the tiny raw y component visibly tilts the normal; both are what
     /// POV-Ray renders (measured: with them 99.7% of a smooth test scene's
     /// pixels match POV-Ray 3.7 exactly, without the rounding 89%).
+    ///
+    /// A hit whose cell is not in this field's grid (made by hand, or by
+    /// another field) gets its own `normal` back.
     pub fn smooth_normal(&self, hit: &FieldHit) -> Vec3 {
         let (fu, fv) = hit.local;
         let (x, z) = (hit.cell_x, hit.cell_z);
+        if !self.has_cell(x, z) {
+            return hit.normal;
+        }
         let n00 = self.vertex_normal_world(x, z);
         let n10 = self.vertex_normal_world(x + 1, z);
         let n01 = self.vertex_normal_world(x, z + 1);
@@ -844,9 +868,12 @@ impl<'a> HeightField<'a> {
 
     /// The thesis's palette colouring: the mean of the palette colours of
     /// the triangle's three vertices, as linear `0..1` RGB. `None` without a
-    /// palette or for 16-bit samples.
+    /// palette, for 16-bit samples, or for a cell not in the grid.
     pub fn triangle_palette_color(&self, x: u32, z: u32, tri: Triangle) -> Option<Vec3> {
         let palette = self.palette?;
+        if !self.has_cell(x, z) {
+            return None;
+        }
         if !matches!(self.samples, Samples::U8(_)) {
             return None;
         }

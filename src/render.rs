@@ -55,6 +55,10 @@ pub struct RenderSettings {
 /// Largest accepted `aa` (256 rays per pixel).
 pub const MAX_AA: u32 = 16;
 
+/// Largest `width · aa` and `height · aa`: sample position
+/// `px + (i + ½)/aa` is exact in `f32` while `2 · aa · px < 2^24`.
+pub const MAX_SAMPLES_PER_SIDE: u32 = 1 << 23;
+
 impl RenderSettings {
     /// The whole `width × height` image, one ray per pixel.
     pub fn new(width: u32, height: u32) -> Self {
@@ -173,6 +177,16 @@ pub enum RenderError {
     },
     /// `aa` is 0 or above [`MAX_AA`].
     Aa(u32),
+    /// `width · aa` or `height · aa` exceeds [`MAX_SAMPLES_PER_SIDE`]: the
+    /// sample positions would no longer be exact in `f32`.
+    TooLarge {
+        /// `width`.
+        width: u32,
+        /// `height`.
+        height: u32,
+        /// `aa`.
+        aa: u32,
+    },
     /// Object `object` (index in `scene.objects`) has invalid geometry.
     Shape {
         /// Index of the object.
@@ -225,6 +239,12 @@ impl core::fmt::Display for RenderError {
                 write!(f, "rows {start}..{end} are not within 0..{height}")
             }
             RenderError::Aa(n) => write!(f, "anti-aliasing {n} is not within 1..={MAX_AA}"),
+            RenderError::TooLarge { width, height, aa } => write!(
+                f,
+                "image {width}x{height} with {aa}x{aa} samples per pixel is too large: width·aa \
+                 and height·aa may be at most {MAX_SAMPLES_PER_SIDE} (sample positions must be \
+                 exact in f32)"
+            ),
             RenderError::Shape { object, error } => write!(f, "object {object}: {error}"),
             RenderError::MissingField {
                 object,
@@ -278,6 +298,14 @@ fn check(settings: &RenderSettings, line_len: usize) -> Result<(), RenderError> 
     }
     if settings.aa == 0 || settings.aa > MAX_AA {
         return Err(RenderError::Aa(settings.aa));
+    }
+    let side = settings.width.max(settings.height) as u64 * settings.aa as u64;
+    if side > MAX_SAMPLES_PER_SIDE as u64 {
+        return Err(RenderError::TooLarge {
+            width: settings.width,
+            height: settings.height,
+            aa: settings.aa,
+        });
     }
     Ok(())
 }

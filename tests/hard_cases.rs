@@ -36,7 +36,7 @@ fn surface(f: &HeightField<'_>, x: f64, z: f64) -> f64 {
     let i = (u.floor() as u32).min(f.width() - 2);
     let j = (v.floor() as u32).min(f.depth() - 2);
     let (fu, fv) = (u - i as f64, v - j as f64);
-    let h = |a: u32, b: u32| f.height(i + a, j + b) as f64;
+    let h = |a: u32, b: u32| f.height(i + a, j + b).expect("vertex in the grid") as f64;
     if fu + fv <= 1.0 {
         h(0, 0) + fu * (h(1, 0) - h(0, 0)) + fv * (h(0, 1) - h(0, 0))
     } else {

@@ -174,6 +174,43 @@ fn huge_render_size_without_its_line_buffer_is_an_error() {
     );
 }
 
+/// Known gap of session 1, closed: sides past 2^23 samples rendered with
+/// rounded sample positions, silently. Now `width · aa` and `height · aa`
+/// above `MAX_SAMPLES_PER_SIDE` are an error, checked before any ray.
+#[test]
+fn sample_positions_past_f32_exactness_are_an_error() {
+    use hfray::render::MAX_SAMPLES_PER_SIDE;
+    let s = scene(
+        front_camera(),
+        &[object(unit_sphere(), Vec3::ONE, Finish::default())],
+        &[],
+    );
+    let mut sink = |_: u32, _: &[Rgb888]| ControlFlow::Continue(());
+    // A 2^23-wide line is 24 MiB: use a tall image with a short line instead.
+    let mut line = [Rgb888::default(); 4];
+    let tall = RenderSettings::new(4, MAX_SAMPLES_PER_SIDE + 1).with_rows(0..1);
+    let err = render(&s, &[], &tall, &mut line, &mut sink).unwrap_err();
+    assert_eq!(
+        err,
+        RenderError::TooLarge {
+            width: 4,
+            height: MAX_SAMPLES_PER_SIDE + 1,
+            aa: 1
+        }
+    );
+    assert!(err.to_string().contains("at most 8388608"), "{err}");
+    // aa counts: 2^22 rows at aa 2 is the limit, at aa 3 past it.
+    let ok = RenderSettings::new(4, MAX_SAMPLES_PER_SIDE / 2)
+        .with_aa(2)
+        .with_rows(0..1);
+    assert!(render(&s, &[], &ok, &mut line, &mut sink).is_ok());
+    let over = ok.clone().with_aa(3);
+    assert!(matches!(
+        render(&s, &[], &over, &mut line, &mut sink),
+        Err(RenderError::TooLarge { aa: 3, .. })
+    ));
+}
+
 /// `max_trace_level` past the parser's cap of 256, set in code (u32::MAX),
 /// between two perfect mirrors (reflection 1, so the adc_bailout never
 /// stops the bounces): each primary ray still stops after MAX_SEGMENTS

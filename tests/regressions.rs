@@ -315,3 +315,41 @@ fn normal_of_sphere_scaled_by_1e25_was_zero() {
         assert!(hit.normal.z < -0.999, "scale {scale}: {hit:?}");
     }
 }
+
+/// Known gap of session 1, closed: the public accessors indexed the samples
+/// directly and panicked on a vertex or cell outside the grid. They now
+/// answer `None` (or, for `smooth_normal` of a hit made by hand, the hit's
+/// own normal); palette colours of outside cells are `None` too.
+#[test]
+fn accessors_outside_the_grid_answer_none_not_a_panic() {
+    use hfray::glam::Vec3;
+    use hfray::{FieldHit, HeightConvention, HeightField, Samples, Triangle};
+    let data = [10u8, 20, 30, 40, 50, 60];
+    let palette = [[7u8; 3]; 256];
+    let field = HeightField::new(Samples::U8(&data), 3, 2, HeightConvention::Indexed)
+        .unwrap()
+        .with_palette(&palette);
+    // Vertices: 3 × 2; grid row 0 is image row 1.
+    assert_eq!(field.height(0, 0), Some(40.0 / 256.0));
+    assert_eq!(field.height(2, 1), Some(30.0 / 256.0));
+    assert_eq!(field.height(3, 0), None);
+    assert_eq!(field.height(0, 2), None);
+    assert_eq!(field.height(u32::MAX, u32::MAX), None);
+    // Cells: 2 × 1.
+    assert!(field.geometric_normal(1, 0, Triangle::B).is_some());
+    assert_eq!(field.geometric_normal(2, 0, Triangle::A), None);
+    assert_eq!(field.geometric_normal(0, 1, Triangle::A), None);
+    assert!(field.triangle_palette_color(1, 0, Triangle::A).is_some());
+    assert_eq!(field.triangle_palette_color(2, 0, Triangle::A), None);
+    let made_up = FieldHit {
+        t: 1.0,
+        point: Vec3::ZERO,
+        object_point: Vec3::ZERO,
+        cell_x: 9,
+        cell_z: 9,
+        triangle: Triangle::A,
+        local: (0.5, 0.5),
+        normal: Vec3::Y,
+    };
+    assert_eq!(field.smooth_normal(&made_up), Vec3::Y);
+}

@@ -56,7 +56,7 @@ fn section(runs: usize, rays: &[Ray]) {
     let mut col_major = Vec::with_capacity((n * n) as usize);
     for x in 0..n {
         for z in 0..n {
-            col_major.push(field.height(x, z));
+            col_major.push(field.height(x, z).expect("in the grid"));
         }
     }
     let pf = PField::new(
@@ -150,7 +150,7 @@ fn brute_force(field: &HeightField<'_>, ray: &Ray) -> Option<f64> {
     let p = |x: u32, z: u32| {
         DVec3::new(
             x as f64 / (w - 1) as f64,
-            field.height(x, z) as f64 * 0.3,
+            field.height(x, z).expect("in the grid") as f64 * 0.3,
             z as f64 / (d - 1) as f64,
         )
     };
