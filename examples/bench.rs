@@ -428,31 +428,43 @@ fn section_e(runs: usize) {
             rays.push(Ray::new(eye, forward + right * u + up * v));
         }
     }
-    let mut plain_hits = Vec::new();
     let mut plain_counters = Counters::default();
-    let plain = median_secs(runs, || {
-        plain_hits.clear();
-        plain_counters = Counters::default();
+    let reference: Vec<_> = rays
+        .iter()
+        .map(|r| f.intersect_counted(r, 0.0, f32::INFINITY, &mut plain_counters))
+        .collect();
+    let mut plain_f = || {
         for r in &rays {
-            plain_hits.push(f.intersect_counted(r, 0.0, f32::INFINITY, &mut plain_counters));
+            std::hint::black_box(f.intersect(r, 0.0, f32::INFINITY));
         }
-    });
+    };
     let mut counters = Counters::default();
     let mut same = true;
-    let coherent = median_secs(runs, || {
+    let mut coherent_f = || {
         counters = Counters::default();
         let mut k = 0;
         for column in rays.chunks(H as usize) {
             let mut hint = ColumnHint::new();
             for r in column {
                 let hit = f.intersect_coherent(r, 0.0, f32::INFINITY, &mut hint, &mut counters);
-                same &= hit == plain_hits[k];
+                same &= hit == reference[k];
                 k += 1;
             }
         }
-    });
+    };
+    // Interleaved, as in (a)-(c).
+    let (pr, cr) = (repetitions(&mut plain_f), repetitions(&mut coherent_f));
+    let (mut pt, mut ct, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..runs {
+        let p = sample_secs(pr, &mut plain_f);
+        let c = sample_secs(cr, &mut coherent_f);
+        pt.push(p);
+        ct.push(c);
+        ratios.push(p / c);
+    }
+    let (plain, coherent, speedup) = (median(&mut pt), median(&mut ct), median(&mut ratios));
     assert!(same, "coherent answers differ from the plain walk");
-    let hits = plain_hits.iter().filter(|h| h.is_some()).count();
+    let hits = reference.iter().filter(|h| h.is_some()).count();
     let rate = |s: f64| rays.len() as f64 / s / 1e6;
     println!(
         "  plain walk   {:>8.3} Mrays/s  ({:.1} visits/ray)\n  coherent     {:>8.3} Mrays/s  ({:.1} visits/ray; {:.2}x; all {} answers identical; {} hits; {} rays resumed)",
@@ -460,7 +472,7 @@ fn section_e(runs: usize) {
         (plain_counters.cells + plain_counters.blocks) as f64 / rays.len() as f64,
         rate(coherent),
         (counters.cells + counters.blocks) as f64 / rays.len() as f64,
-        plain / coherent,
+        speedup,
         rays.len(),
         hits,
         counters.resumed,
