@@ -9,7 +9,7 @@ use hfray::traversal::{Counters, GridHit, GridRay};
 use hfray::{FieldHit, HeightField, Ray, Transform};
 
 fn main() {
-    let rows: [(&str, usize); 14] = [
+    let rows: [(&str, usize); 15] = [
         (
             "HeightField (per field; samples are borrowed)",
             size_of::<HeightField<'static>>(),
@@ -23,6 +23,7 @@ fn main() {
         ("GridHit<f32>", size_of::<GridHit<f32>>()),
         ("FieldHit", size_of::<FieldHit>()),
         ("Counters", size_of::<Counters>()),
+        ("ColumnHint", size_of::<hfray::ColumnHint>()),
         ("Camera", size_of::<Camera>()),
         ("RenderSettings", size_of::<RenderSettings>()),
         ("Stats", size_of::<Stats>()),

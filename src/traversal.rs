@@ -35,6 +35,20 @@
 //! rounding makes neighbouring grid lines coincide on both axes (origins
 //! millions of cells away in `f32`) walk cell by cell. The skip walk's
 //! passes are bounded by `(cells + 1) × (levels + 1)`.
+//!
+//! Rays whose boundary parameters are strictly monotone on both axes (all
+//! but those far-away ones) take the hierarchical DDA (`Walk::walk_hdda`):
+//! culled blocks are stepped over at their own level, block to block, as
+//! the flat walk steps cells, and the exact cell is located only when the
+//! walk descends into a block it cannot cull (`Walk::locate`); the others
+//! take the block-jumping walk (`Walk::walk_skip`). Both are checked
+//! against the flat walk by `tests/modes.rs` and the `intersect` fuzz
+//! target.
+//!
+//! Column coherence (`nearest_in_column`, behind
+//! [`HeightField::intersect_coherent`]): a primary ray may start where the
+//! previous ray of its image column stopped; the conditions that make this
+//! exact, and why, are in that function's documentation.
 
 use crate::cell::{Cell, Corners, Place};
 use crate::heightfield::HeightField;
