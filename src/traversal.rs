@@ -727,50 +727,36 @@ impl<S: Real> Walk<S> {
         let (iu_first, iu_last) = span(bi, su, self.cells_u);
         let (jv_first, jv_last) = span(bj, sv, self.cells_v);
         let (i_entered, j_entered) = (i, j);
-        let a = |k: i32| self.au.exit(k, o[0]);
-        let b = |k: i32| self.av.exit(k, o[2]);
+        // Along the axis the step did not cross: the first line (row or
+        // column) from the block's first, never before the start's, whose
+        // exit parameter is past `t_a`; entered at a vertex when the line
+        // before it is left exactly at `t_a`.
+        let other = |axis: &Axis<S>, o: S, d: S, first: i32, last: i32, start: i32| {
+            if axis.step == 0 {
+                return (start, false);
+            }
+            let from = if axis.step > 0 {
+                first.max(start)
+            } else {
+                first.min(start)
+            };
+            let guess = (o + t_a * d).floor_i32();
+            let k = first_true(|k| axis.exit(k, o) > t_a, from, last, axis.step, guess);
+            (k, k != start && axis.exit(k - axis.step, o) == t_a)
+        };
+        let vertex = Place::Vertex(su < 0, sv < 0);
         match side {
             Exit::U => {
-                let j = if sv == 0 {
-                    j0
-                } else {
-                    let from = if sv > 0 {
-                        jv_first.max(j0)
-                    } else {
-                        jv_first.min(j0)
-                    };
-                    let guess = (o[2] + t_a * d[2]).floor_i32();
-                    first_true(|k| b(k) > t_a, from, jv_last, sv, guess)
-                };
-                let corner = sv != 0 && j != j0 && b(j - sv) == t_a;
-                let place = if corner {
-                    Place::Vertex(su < 0, sv < 0)
-                } else {
-                    Place::EdgeU(su < 0)
-                };
+                let (j, corner) = other(&self.av, o[2], d[2], jv_first, jv_last, j0);
+                let place = if corner { vertex } else { Place::EdgeU(su < 0) };
                 self.cursor(i_entered, j, t_a, place)
             }
             Exit::V => {
-                let i = if su == 0 {
-                    i0
-                } else {
-                    let from = if su > 0 {
-                        iu_first.max(i0)
-                    } else {
-                        iu_first.min(i0)
-                    };
-                    let guess = (o[0] + t_a * d[0]).floor_i32();
-                    first_true(|k| a(k) > t_a, from, iu_last, su, guess)
-                };
-                let corner = su != 0 && i != i0 && a(i - su) == t_a;
-                let place = if corner {
-                    Place::Vertex(su < 0, sv < 0)
-                } else {
-                    Place::EdgeV(sv < 0)
-                };
+                let (i, corner) = other(&self.au, o[0], d[0], iu_first, iu_last, i0);
+                let place = if corner { vertex } else { Place::EdgeV(sv < 0) };
                 self.cursor(i, j_entered, t_a, place)
             }
-            _ => self.cursor(i_entered, j_entered, t_a, Place::Vertex(su < 0, sv < 0)),
+            _ => self.cursor(i_entered, j_entered, t_a, vertex),
         }
     }
 

@@ -7,30 +7,12 @@
 
 mod common;
 
-use common::{random_heights, Rng};
+use common::{random_heights, terrain, Rng};
 use hfray::glam::{DVec3, Vec3};
 use hfray::{
     ColumnHint, Counters, HeightConvention, HeightField, Numeric, Ray, Samples, SkipGrid,
     SkipLayout, Transform, Traversal,
 };
-
-/// Smooth terrain with ridges and valleys (deterministic).
-fn terrain(rng: &mut Rng, w: u32, d: u32) -> Vec<u8> {
-    let (a, b, c) = (
-        rng.range(0.02, 0.3),
-        rng.range(0.02, 0.3),
-        rng.range(0.0, 6.0),
-    );
-    (0..w * d)
-        .map(|i| {
-            let (x, z) = ((i % w) as f64, (i / w) as f64);
-            let v = 0.5
-                + 0.3 * (x * a + c).sin() * (z * b).cos()
-                + 0.15 * (x * a * 3.1 + z * b * 2.3).sin();
-            (v.clamp(0.0, 1.0) * 255.0) as u8
-        })
-        .collect()
-}
 
 /// One column of a view: rays from `origin(k)` along `direction(k)`,
 /// bottom ray first.

@@ -12,30 +12,11 @@
 mod common;
 
 use common::modes::Modes;
-use common::{random_heights, Rng};
+use common::{random_heights, terrain, Rng};
 use hfray::{
     Counters, HeightConvention, HeightField, Real, Samples, SkipError, SkipGrid, SkipLayout,
     Traversal,
 };
-
-/// A fractal-ish terrain with valleys and plateaus (deterministic).
-fn terrain(rng: &mut Rng, w: u32, d: u32) -> Vec<u8> {
-    let (a, b, c) = (
-        rng.range(0.01, 0.2),
-        rng.range(0.01, 0.2),
-        rng.range(0.0, 6.0),
-    );
-    (0..w * d)
-        .map(|i| {
-            let (x, z) = ((i % w) as f64, (i / w) as f64);
-            let v = 0.5
-                + 0.25 * (x * a + c).sin() * (z * b).cos()
-                + 0.15 * (x * a * 3.1 + z * b * 2.3).sin()
-                + 0.1 * (x * 0.71 + z * 1.37).sin();
-            (v.clamp(0.0, 1.0) * 255.0) as u8
-        })
-        .collect()
-}
 
 /// Rays in grid space (cell = 1), designed to stress block exits.
 fn adversarial_ray(rng: &mut Rng, cu: f64, cv: f64) -> ([f64; 3], [f64; 3], f64, f64) {

@@ -36,6 +36,25 @@ impl Rng {
     }
 }
 
+/// A fractal-ish terrain with valleys and plateaus (deterministic).
+pub fn terrain(rng: &mut Rng, w: u32, d: u32) -> Vec<u8> {
+    let (a, b, c) = (
+        rng.range(0.01, 0.2),
+        rng.range(0.01, 0.2),
+        rng.range(0.0, 6.0),
+    );
+    (0..w * d)
+        .map(|i| {
+            let (x, z) = ((i % w) as f64, (i / w) as f64);
+            let v = 0.5
+                + 0.25 * (x * a + c).sin() * (z * b).cos()
+                + 0.15 * (x * a * 3.1 + z * b * 2.3).sin()
+                + 0.1 * (x * 0.71 + z * 1.37).sin();
+            (v.clamp(0.0, 1.0) * 255.0) as u8
+        })
+        .collect()
+}
+
 /// Kinds of height data the tests draw from: random and adversarial.
 pub fn random_heights(rng: &mut Rng, w: u32, d: u32) -> Vec<u8> {
     let n = (w * d) as usize;
