@@ -667,13 +667,14 @@ impl<'a> HeightField<'a> {
     /// rays that did). The answer is always bit-for-bit
     /// [`intersect_counted`](Self::intersect_counted)'s.
     ///
-    /// The rays of a column qualify when they share their origin and their
-    /// grid `x`, `z` direction: a perspective camera whose `up` is the
-    /// field's vertical (a level view, as in flight simulators and the
-    /// thesis's Voxel-Space relatives), or an orthographic one with a level
-    /// `up`, over a field with no water level above its lowest sample, in
-    /// the [`Numeric::F32`] path. Other rays are walked from their start;
-    /// the hint then costs a few comparisons.
+    /// The rays of a column qualify when they share their grid `x`, `z`
+    /// origin and direction (each ray's `y` origin and direction no lower
+    /// than the previous one's): the unnormalised rays of a perspective
+    /// camera whose `up` is the field's vertical (a level view, as in
+    /// flight simulators and the thesis's Voxel-Space relatives), or of an
+    /// orthographic one with a level `up`, over a field with no water level
+    /// above its lowest sample, in the [`Numeric::F32`] path. Other rays
+    /// are walked from their start; the hint then costs a few comparisons.
     ///
     /// Keep one [`ColumnHint`] per image column (see
     /// [`ColumnHint::new`]); a hint used with another field is detected and
