@@ -320,10 +320,13 @@ impl<S: Real> Walk<S> {
     /// Visits the cursor's cell: the cull, the cell test, and the step to
     /// the next cell (moving the cursor).
     #[inline(always)]
+    /// On a hit the cursor is left at the hit cell and recorded in `stop`
+    /// (where a coherent walk may resume).
     fn visit(
         &self,
         field: &HeightField<'_>,
         c: &mut Cursor<S>,
+        stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
     ) -> Visit<S> {
         let (o, d) = (self.o, self.d);
@@ -375,6 +378,7 @@ impl<S: Real> Walk<S> {
             };
             let b = cell.point(t_b, exit_place);
             if let Some(hit) = cell.first_crossing(&a, &b, &mut counters.triangle_tests) {
+                *stop = Some(c.resume());
                 return Visit::Hit(GridHit {
                     t: hit.t,
                     cell_x: i as u32,
@@ -423,11 +427,8 @@ impl<S: Real> Walk<S> {
         // never back: it cannot take more steps than this.
         let max_steps = self.cells_u + self.cells_v + 1;
         for _ in 0..max_steps {
-            match self.visit(field, &mut c, counters) {
-                Visit::Hit(h) => {
-                    *stop = Some(c.resume());
-                    return Some(h);
-                }
+            match self.visit(field, &mut c, stop, counters) {
+                Visit::Hit(h) => return Some(h),
                 Visit::Miss => return None,
                 Visit::Next => {}
             }
@@ -519,11 +520,8 @@ impl<S: Real> Walk<S> {
                 }
                 level -= 1;
             }
-            match self.visit(field, &mut c, counters) {
-                Visit::Hit(h) => {
-                    *stop = Some(c.resume());
-                    return Some(h);
-                }
+            match self.visit(field, &mut c, stop, counters) {
+                Visit::Hit(h) => return Some(h),
                 Visit::Miss => return None,
                 Visit::Next => {}
             }
@@ -607,11 +605,8 @@ impl<S: Real> Walk<S> {
                 }
                 passes -= 1;
                 let (pi, pj) = (c.i, c.j);
-                match self.visit(field, &mut c, counters) {
-                    Visit::Hit(h) => {
-                        *stop = Some(c.resume());
-                        return Some(h);
-                    }
+                match self.visit(field, &mut c, stop, counters) {
+                    Visit::Hit(h) => return Some(h),
                     Visit::Miss => return None,
                     Visit::Next => {}
                 }
