@@ -22,8 +22,8 @@ mod common;
 use std::process::Command;
 
 use common::*;
-use hfray::glam::{DVec3, Vec3};
-use hfray::scene::{CameraDesc, Finish, ImageFormat, Object, Pigment, Shape};
+use hfray::glam::Vec3;
+use hfray::scene::{CameraDesc, Finish, Object, Pigment, Shape};
 use hfray::{HeightConvention, HeightField, Pixel, Rgb888, Samples, Transform};
 
 const W: u32 = 320;
@@ -44,41 +44,7 @@ sphere { <0.2, 0.25, 0.2>, 0.07 pigment { color rgbf <0.2, 1, 0.2, 0.6> }
 "#;
 
 fn hfray_scene() -> (TestScene, Transform) {
-    let t = Transform::scale(DVec3::new(1.0, 0.35, 1.0)).unwrap();
-    let land = Object {
-        shape: Shape::HeightField {
-            format: ImageFormat::Pgm,
-            path: "island.pgm",
-            smooth: true,
-            water_level: 0.1,
-            palette_colors: false,
-            field_index: 0,
-        },
-        transform: t,
-        pigment: Pigment {
-            color: Vec3::new(0.55, 0.45, 0.3),
-            ..Pigment::default()
-        },
-        finish: Finish {
-            specular: 0.2,
-            ..Finish::default()
-        },
-    };
-    let sea = Object {
-        shape: Shape::Plane {
-            normal: Vec3::Y,
-            distance: 0.05,
-        },
-        transform: Transform::IDENTITY,
-        pigment: Pigment {
-            color: Vec3::new(0.1, 0.25, 0.5),
-            ..Pigment::default()
-        },
-        finish: Finish {
-            reflection: Vec3::splat(0.4),
-            ..Finish::default()
-        },
-    };
+    let ([land, sea], t) = island_land_and_sea();
     let red = Object {
         shape: Shape::Sphere {
             center: Vec3::new(0.85, 0.2, 0.25),

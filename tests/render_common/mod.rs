@@ -4,8 +4,10 @@
 
 use std::ops::ControlFlow;
 
-use hfray::glam::Vec3;
-use hfray::scene::{CameraDesc, Finish, Light, Object, Pigment, Projection, Scene, Shape};
+use hfray::glam::{DVec3, Vec3};
+use hfray::scene::{
+    CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Projection, Scene, Shape,
+};
 use hfray::{render, HeightField, LinearRgb, Pixel, RenderSettings, Stats, Transform};
 
 pub type TestScene = Scene<'static, 8, 4>;
@@ -152,4 +154,46 @@ pub fn island() -> Vec<u8> {
         }
     }
     v
+}
+
+/// The island's land (field 0, `island.pgm`, water level 0.1, smooth) and
+/// its reflective sea plane, shared by the golden and POV-Ray tests, with
+/// the land's transform.
+pub fn island_land_and_sea() -> ([Object<'static>; 2], Transform) {
+    let t = Transform::scale(DVec3::new(1.0, 0.35, 1.0)).unwrap();
+    let land = Object {
+        shape: Shape::HeightField {
+            format: ImageFormat::Pgm,
+            path: "island.pgm",
+            smooth: true,
+            water_level: 0.1,
+            palette_colors: false,
+            field_index: 0,
+        },
+        transform: t,
+        pigment: Pigment {
+            color: Vec3::new(0.55, 0.45, 0.3),
+            ..Pigment::default()
+        },
+        finish: Finish {
+            specular: 0.2,
+            ..Finish::default()
+        },
+    };
+    let sea = Object {
+        shape: Shape::Plane {
+            normal: Vec3::Y,
+            distance: 0.05,
+        },
+        transform: Transform::IDENTITY,
+        pigment: Pigment {
+            color: Vec3::new(0.1, 0.25, 0.5),
+            ..Pigment::default()
+        },
+        finish: Finish {
+            reflection: Vec3::splat(0.4),
+            ..Finish::default()
+        },
+    };
+    ([land, sea], t)
 }
