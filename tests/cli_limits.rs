@@ -38,16 +38,25 @@ fn option_values_past_their_limits_are_errors() {
     let out = dir.join("o.tga");
     let out = out.to_str().unwrap();
     for (extra, needle) in [
-        (["--width", "65537"], "--width: 65537 is outside 1..=65536"),
+        (
+            ["--width", "65537"],
+            "invalid value '65537' for '--width <W>': 65537 is outside 1..=65536",
+        ),
         (
             ["--height", "65537"],
-            "--height: 65537 is outside 1..=65536",
+            "invalid value '65537' for '--height <H>': 65537 is outside 1..=65536",
         ),
-        (["--aa", "17"], "--aa: 17 is outside 1..=16"),
-        (["--threads", "257"], "--threads: 257 is outside 1..=256"),
+        (
+            ["--aa", "17"],
+            "invalid value '17' for '--aa <N>': 17 is not in 1..=16",
+        ),
+        (
+            ["--threads", "257"],
+            "invalid value '257' for '--threads <N>': 257 is not in 1..=256",
+        ),
         (
             ["--frames", "100001"],
-            "--frames: 100001 is outside 1..=100000",
+            "invalid value '100001' for '--frames <N>': 100001 is not in 1..=100000",
         ),
         (["--rows", "0..201"], "goes past the image height 200"),
     ] {

@@ -161,7 +161,7 @@ fn bad_arguments_exit_1_with_a_message() {
         ),
         (
             &["examples/scenes/default.pov", "-o", "x.tga", "--frobnicate"][..],
-            "unknown option",
+            "unexpected argument '--frobnicate'",
         ),
         (
             &["no/such/scene.pov", "-o", "x.tga"][..],

@@ -161,6 +161,12 @@ fn png_chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
 /// A hand-made Adam7-interlaced 8-bit gray PNG (stored deflate blocks),
 /// since the `png` crate's encoder does not interlace.
 fn interlaced_gray_png(w: usize, h: usize, v: &[u8]) -> Vec<u8> {
+    let v: Vec<u16> = v.iter().map(|&x| u16::from(x)).collect();
+    interlaced_png(w, h, 8, &v)
+}
+
+/// [`interlaced_gray_png`] of 8- or 16-bit (`bits`) gray samples.
+fn interlaced_png(w: usize, h: usize, bits: u8, v: &[u16]) -> Vec<u8> {
     const PASSES: [(usize, usize, usize, usize); 7] = [
         (0, 0, 8, 8),
         (4, 0, 8, 8),
@@ -178,7 +184,11 @@ fn interlaced_gray_png(w: usize, h: usize, v: &[u8]) -> Vec<u8> {
         for y in (y0..h).step_by(dy) {
             raw.push(0); // filter: none
             for x in (x0..w).step_by(dx) {
-                raw.push(v[y * w + x]);
+                if bits == 16 {
+                    raw.extend_from_slice(&v[y * w + x].to_be_bytes());
+                } else {
+                    raw.push(v[y * w + x] as u8);
+                }
             }
         }
     }
@@ -201,7 +211,7 @@ fn interlaced_gray_png(w: usize, h: usize, v: &[u8]) -> Vec<u8> {
     let mut ihdr = Vec::new();
     ihdr.extend_from_slice(&(w as u32).to_be_bytes());
     ihdr.extend_from_slice(&(h as u32).to_be_bytes());
-    ihdr.extend_from_slice(&[8, 0, 0, 0, 1]); // 8-bit gray, Adam7
+    ihdr.extend_from_slice(&[bits, 0, 0, 0, 1]); // gray, Adam7
     png_chunk(&mut out, b"IHDR", &ihdr);
     png_chunk(&mut out, b"IDAT", &z);
     png_chunk(&mut out, b"IEND", &[]);
@@ -942,7 +952,7 @@ fn every_prefix_and_byte_flip_of_each_format_loads_or_errors_without_panic() {
     let mut seed = 42u64;
     let (mut ok, mut errors) = (0, 0);
     let mut check = |format: ImageFormat, b: &[u8]| {
-        match images::decode_height_field(Cursor::new(b), format) {
+        match images::decode_height_field(Cursor::new(b), format, &mut Default::default()) {
             Ok(f) => {
                 // Whatever loads is a well-formed field.
                 assert_eq!(f.sample_data().len(), (f.width() * f.depth()) as usize);
@@ -1357,4 +1367,197 @@ fn regenerate_committed_gifs() {
         .unwrap();
         fs::write(format!("{DATA}/{stem}.gif"), out).unwrap();
     }
+}
+
+// ------------------------------------------- hostile images (issue 16)
+
+/// The signature and IHDR of a `w`×`h` gray PNG of `bits` bits, Adam7
+/// interlaced, followed by `idat` as its only IDAT chunk and no IEND: a
+/// header that claims a huge image over a few bytes of data.
+fn png_header_only(w: u32, h: u32, bits: u8, idat: &[u8]) -> Vec<u8> {
+    let mut out = vec![137, 80, 78, 71, 13, 10, 26, 10];
+    let mut ihdr = Vec::new();
+    ihdr.extend_from_slice(&w.to_be_bytes());
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[bits, 0, 0, 0, 1]);
+    png_chunk(&mut out, b"IHDR", &ihdr);
+    png_chunk(&mut out, b"IDAT", idat);
+    out
+}
+
+/// Decodes `bytes` within `budget`, returning the error and the thread's
+/// peak heap growth while decoding.
+fn decode_peak(bytes: &[u8], format: ImageFormat, budget: u64) -> (String, isize) {
+    let before = ALLOC.thread_snapshot();
+    ALLOC.reset_thread_peak();
+    let result = images::decode_height_field(
+        Cursor::new(bytes),
+        format,
+        &mut images::DecodeBudget::new(budget),
+    );
+    let peak = ALLOC.thread_snapshot().peak_bytes - before.current_bytes;
+    (result.expect_err("must fail"), peak)
+}
+
+#[test]
+fn interlaced_16_bit_png_rows_are_exact() {
+    let (w, h) = (13usize, 10usize);
+    let v: Vec<u16> = (0..w * h).map(|i| (i * 4099 % 65_521) as u16).collect();
+    let f = images::decode_height_field(
+        Cursor::new(interlaced_png(w, h, 16, &v)),
+        ImageFormat::Png,
+        &mut Default::default(),
+    )
+    .unwrap();
+    assert_eq!(f.convention(), HeightConvention::Gray16);
+    assert_eq!(u16s(&f), &v[..]);
+}
+
+#[test]
+fn interlaced_16_bit_png_of_16384_squared_is_refused_by_the_budget_before_allocating() {
+    // 512 MiB of samples claimed by a few bytes: over the 256 MiB default.
+    let bytes = png_header_only(16_384, 16_384, 16, &[0x78, 0x01]);
+    let (e, peak) = decode_peak(&bytes, ImageFormat::Png, images::DEFAULT_DECODE_BUDGET);
+    assert!(
+        e.contains("16384x16384 interlaced PNG's 16-bit samples (and a bit each to put them in order) need 544.0 MiB"),
+        "{e}"
+    );
+    assert!(e.contains("image memory budget has 256.0 MiB left"), "{e}");
+    // The PNG decoder's own state (about 150 KB), no samples.
+    assert!(peak < 1 << 20, "{peak} bytes allocated before refusing");
+}
+
+#[test]
+fn truncated_interlaced_png_commits_little_before_failing() {
+    // 69 bytes claiming 16384² 16-bit, within a budget large enough to
+    // try: the frame used to be zero-filled (512 MiB) before any data.
+    let mut bytes = png_header_only(16_384, 16_384, 16, &[0x78, 0x01, 0x01, 0x10, 0x00]);
+    bytes.resize(69, 0);
+    let (e, peak) = decode_peak(&bytes, ImageFormat::Png, 1 << 30);
+    assert!(e.contains("PNG"), "{e}");
+    assert!(peak < 1 << 20, "{peak} bytes committed for a 69-byte file");
+}
+
+#[test]
+fn truncated_pot_commits_little_before_failing() {
+    // A POT (GIF of twice the width) claiming 65534×16384, interlaced,
+    // whose image data stops after a few bytes.
+    let (fw, fh) = (65_534u16, 16_384u16);
+    let mut gif = b"GIF89a".to_vec();
+    gif.extend_from_slice(&fw.to_le_bytes());
+    gif.extend_from_slice(&fh.to_le_bytes());
+    gif.extend_from_slice(&[0x80, 0, 0]); // a 2-entry global palette
+    gif.extend_from_slice(&[0, 0, 0, 255, 255, 255]);
+    gif.push(0x2c);
+    gif.extend_from_slice(&[0, 0, 0, 0]);
+    gif.extend_from_slice(&fw.to_le_bytes());
+    gif.extend_from_slice(&fh.to_le_bytes());
+    gif.push(0x40); // interlaced
+    gif.extend_from_slice(&[2, 3, 0x44, 0x01, 0x05]); // LZW, then nothing
+    let (e, peak) = decode_peak(&gif, ImageFormat::Pot, 4 << 30);
+    assert!(e.contains("POT"), "{e}");
+    assert!(peak < 1 << 20, "{peak} bytes committed for a truncated POT");
+}
+
+#[test]
+fn interlaced_gif_and_pot_decode_in_image_order_from_file_order() {
+    // Rows decoded in pass order, then put in image order in place.
+    let (w, h) = (6u16, 11u16);
+    let idx: Vec<u8> = (0..w * h).map(|i| (i * 37 % 256) as u8).collect();
+    let palette: Vec<u8> = (0..=255u8).flat_map(|i| [i, i, i]).collect();
+    let bytes = gif_bytes(w, h, &idx, &palette, true);
+    let f = images::decode_height_field(
+        Cursor::new(&bytes),
+        ImageFormat::Gif,
+        &mut Default::default(),
+    )
+    .unwrap();
+    assert_eq!(u8s(&f), &idx[..]);
+    let pot = images::decode_height_field(
+        Cursor::new(&bytes),
+        ImageFormat::Pot,
+        &mut Default::default(),
+    )
+    .unwrap();
+    let hw = usize::from(w / 2);
+    for row in 0..usize::from(h) {
+        for col in 0..hw {
+            let i = row * usize::from(w) + col;
+            let want = u16::from(idx[i]) << 8 | u16::from(idx[i + hw]);
+            assert_eq!(u16s(&pot)[row * hw + col], want, "row {row} col {col}");
+        }
+    }
+}
+
+#[test]
+fn non_regular_files_are_refused_before_opening() {
+    let dir = tmp_dir("not_regular");
+    let fifo = dir.join("pipe.png");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    // Would block forever in open(2) if opened like a file.
+    let e = load_height_field(&fifo, ImageFormat::Png).unwrap_err();
+    assert!(
+        e.message()
+            .contains("is a FIFO (named pipe), not an image file"),
+        "{e}"
+    );
+    let e = load_height_field(&dir, ImageFormat::Png).unwrap_err();
+    assert!(e.message().contains("is a directory"), "{e}");
+    let e = load_height_field(Path::new("/dev/zero"), ImageFormat::Png).unwrap_err();
+    assert!(e.message().contains("is a device"), "{e}");
+}
+
+/// A scene of `objects` height fields, each naming one of `images`.
+fn scene_of_fields(dir: &Path, images: &[&str], objects: usize) -> PathBuf {
+    let mut text = String::from("camera { location <0.5, 2, -1.5> look_at <0.5, 0, 0.5> }\n");
+    for i in 0..objects {
+        text += &format!(
+            "height_field {{ pgm \"{}\" translate <{i}, 0, 0> }}\n",
+            images[i % images.len()]
+        );
+    }
+    put(dir, "s.pov", text.as_bytes())
+}
+
+#[test]
+fn sixty_four_fields_naming_one_image_share_one_decode() {
+    use harness::scene_io::{load_fields_within, parse_file_scene_located};
+    let dir = tmp_dir("shared_decode");
+    put(&dir, "hill.pgm", &pnm("P5", 256, 256, 255, &[9; 256 * 256]));
+    let path = scene_of_fields(&dir, &["hill.pgm"], 64);
+    let text = fs::read_to_string(&path).unwrap();
+    let (scene, source) =
+        parse_file_scene_located(&path, &text, &Default::default(), &mut |_| {}).unwrap();
+    let mut budget = images::DecodeBudget::default();
+    let fields = load_fields_within(&scene, &source, &mut budget).unwrap();
+    assert_eq!(fields.len(), 64);
+    assert!(fields.iter().all(|f| std::sync::Arc::ptr_eq(f, &fields[0])));
+    // One image's samples and skip pyramid, not 64.
+    let one = 256 * 256 + fields[0].skip_bytes().unwrap().len() as u64;
+    assert_eq!(budget.used(), one);
+}
+
+#[test]
+fn memory_budget_is_shared_across_fields() {
+    use harness::scene_io::{load_fields_within, parse_file_scene_located};
+    let dir = tmp_dir("budget_total");
+    // Two different 1024² images: 1 MiB of samples each, within 1.5 MiB
+    // one at a time but not together.
+    put(&dir, "a.pgm", &pnm("P5", 1024, 1024, 255, &[1; 1 << 20]));
+    put(&dir, "b.pgm", &pnm("P5", 1024, 1024, 255, &[2; 1 << 20]));
+    let path = scene_of_fields(&dir, &["a.pgm", "b.pgm"], 2);
+    let text = fs::read_to_string(&path).unwrap();
+    let (scene, source) =
+        parse_file_scene_located(&path, &text, &Default::default(), &mut |_| {}).unwrap();
+    let mut budget = images::DecodeBudget::new(3 << 19);
+    let e = load_fields_within(&scene, &source, &mut budget).unwrap_err();
+    assert!(
+        e.contains("s.pov:3:1: "),
+        "located at the second field: {e}"
+    );
+    assert!(e.contains("image memory budget"), "{e}");
 }

@@ -312,7 +312,12 @@ fn expression_nesting_at_and_past_max_depth() {
 mod harness;
 
 fn decode_err(bytes: &[u8], format: hfray::scene::ImageFormat) -> String {
-    harness::images::decode_height_field(std::io::Cursor::new(bytes), format).unwrap_err()
+    harness::images::decode_height_field(
+        std::io::Cursor::new(bytes),
+        format,
+        &mut Default::default(),
+    )
+    .unwrap_err()
 }
 
 #[test]

@@ -245,8 +245,12 @@ fn fuzz_seed_images_all_decode() {
     let formats = [Gif, Pot, Png, Pgm, Ppm, Tga];
     for (name, bytes) in seeds("load_image") {
         let format = formats[usize::from(bytes[0]) % formats.len()];
-        let field = harness::images::decode_height_field(std::io::Cursor::new(&bytes[1..]), format)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let field = harness::images::decode_height_field(
+            std::io::Cursor::new(&bytes[1..]),
+            format,
+            &mut Default::default(),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(field.height_field().is_ok(), "{name}");
     }
 }

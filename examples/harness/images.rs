@@ -65,6 +65,66 @@ pub const MAX_SIDE: u64 = 65_536;
 /// of `u16`).
 pub const MAX_SAMPLES: u64 = 1 << 28;
 
+/// The default [`DecodeBudget`]: 256 MiB for every image a scene names,
+/// together (samples, the skip pyramids built over them, and the one bit
+/// per sample an interlaced image needs while it is put in order). With
+/// the rest of the render command's memory (see `docs/limits.md`) this
+/// keeps its peak under 512 MiB for any input.
+pub const DEFAULT_DECODE_BUDGET: u64 = 256 << 20;
+
+/// Memory the decoded images of one scene may take, in bytes, shared by
+/// every image decoded through it and charged from each header's size
+/// *before* anything is allocated for it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DecodeBudget {
+    limit: u64,
+    used: u64,
+}
+
+impl Default for DecodeBudget {
+    fn default() -> Self {
+        DecodeBudget::new(DEFAULT_DECODE_BUDGET)
+    }
+}
+
+impl DecodeBudget {
+    /// A budget of `limit` bytes.
+    pub const fn new(limit: u64) -> Self {
+        DecodeBudget { limit, used: 0 }
+    }
+
+    /// The budget, in bytes.
+    pub fn limit(&self) -> u64 {
+        self.limit
+    }
+
+    /// Bytes charged so far.
+    pub fn used(&self) -> u64 {
+        self.used
+    }
+
+    /// Takes `bytes` for `what`, or says why they do not fit.
+    pub fn charge(&mut self, bytes: u64, what: &str) -> Result<(), String> {
+        let left = self.limit - self.used;
+        if bytes > left {
+            return Err(format!(
+                "{what} need {} but the image memory budget has {} left of {} \
+                 (the render command's --max-image-mib sets it)",
+                mib(bytes),
+                mib(left),
+                mib(self.limit)
+            ));
+        }
+        self.used += bytes;
+        Ok(())
+    }
+}
+
+/// `bytes` as MiB, one decimal.
+fn mib(bytes: u64) -> String {
+    format!("{:.1} MiB", bytes as f64 / f64::from(1 << 20))
+}
+
 /// A 256-entry RGB palette.
 pub type Palette = [[u8; 3]; 256];
 
@@ -231,12 +291,17 @@ impl LoadedField {
     /// ([`hfray::SkipLayout::pyramid`] with fan-out 4: 4-cell blocks, then
     /// 16, 64, ...): about 2·N²/16 bytes, 34 KiB for a 512² field, which
     /// `examples/bench.rs` measured faster than fan-out 8 (a quarter of the
-    /// memory). Hits are bit-identical with or without it.
-    pub fn build_skip(&mut self) -> Result<(), String> {
+    /// memory), charged to `budget` before it is allocated. Hits are
+    /// bit-identical with or without it.
+    pub fn build_skip(&mut self, budget: &mut DecodeBudget) -> Result<(), String> {
         let field = self.height_field().map_err(|e| e.to_string())?;
         let layout = hfray::SkipLayout::pyramid(self.width, self.depth, 2);
         let bytes = hfray::SkipGrid::bytes_needed_for(&field, layout).map_err(|e| e.to_string())?;
-        let mut memory = vec![0u8; bytes];
+        budget.charge(
+            bytes as u64,
+            &format!("the {}x{} field's skip pyramid", self.width, self.depth),
+        )?;
+        let mut memory = alloc::<u8>(bytes)?;
         hfray::SkipGrid::build(&field, layout, &mut memory).map_err(|e| e.to_string())?;
         self.skip = Some(memory);
         Ok(())
@@ -277,7 +342,9 @@ impl LoadError {
 
 impl fmt::Display for LoadError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}", self.path.display(), self.message)
+        // The path comes from a scene file: shown short and escaped.
+        let path = self.path.to_string_lossy();
+        write!(f, "{}: {}", hfray::scene::Echo(&path), self.message)
     }
 }
 
@@ -300,39 +367,120 @@ pub fn format_for_path(path: &Path) -> Option<ImageFormat> {
 
 /// Loads the height-field image at `path`, read as `format` (the keyword
 /// the scene wrote; the file's contents must match it, except that `pgm`
-/// and `ppm` both accept any of P2/P3/P5/P6, as POV-Ray's Netpbm reader does).
+/// and `ppm` both accept any of P2/P3/P5/P6, as POV-Ray's Netpbm reader
+/// does), within a [`DecodeBudget::default`] of its own.
 pub fn load_height_field(path: &Path, format: ImageFormat) -> Result<LoadedField, LoadError> {
+    load_height_field_within(path, format, &mut DecodeBudget::default())
+}
+
+/// [`load_height_field`], charging the image to `budget`.
+///
+/// Only a regular file is read: its type is checked before it is opened
+/// (a FIFO would block in `open` until a writer came), and again on the
+/// opened file, which is opened non-blocking so that a file swapped for a
+/// FIFO in between cannot block either.
+pub fn load_height_field_within(
+    path: &Path,
+    format: ImageFormat,
+    budget: &mut DecodeBudget,
+) -> Result<LoadedField, LoadError> {
     let err = |message: String| LoadError::new(path, message);
-    let file = File::open(path).map_err(|e| err(format!("cannot open: {e}")))?;
+    let kind = |meta: &std::fs::Metadata| {
+        let t = meta.file_type();
+        if t.is_file() {
+            return Ok(());
+        }
+        Err(err(format!("is {}, not an image file", file_kind(&t))))
+    };
+    kind(&std::fs::metadata(path).map_err(|e| err(format!("cannot open: {e}")))?)?;
+    let file = open_nonblocking(path).map_err(|e| err(format!("cannot open: {e}")))?;
     let meta = file
         .metadata()
         .map_err(|e| err(format!("cannot read: {e}")))?;
-    if meta.is_dir() {
-        return Err(err("is a directory, not an image".into()));
-    }
+    kind(&meta)?;
     if meta.len() == 0 {
         return Err(err(format!(
             "file is empty (expected {})",
             kind_name(format)
         )));
     }
-    decode_height_field(BufReader::new(file), format).map_err(err)
+    decode_height_field(BufReader::new(file), format, budget).map_err(err)
+}
+
+/// What a non-regular file is, for messages.
+fn file_kind(t: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+        if t.is_block_device() || t.is_char_device() {
+            return "a device";
+        }
+    }
+    if t.is_dir() {
+        "a directory"
+    } else {
+        "not a regular file"
+    }
+}
+
+/// Opens `path` for reading without blocking on a FIFO or device.
+fn open_nonblocking(path: &Path) -> io::Result<File> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    options.open(path)
 }
 
 /// Decodes a height-field image from any buffered, seekable reader (a file,
-/// or `Cursor<&[u8]>` over bytes in memory, e.g. `include_bytes!`). The
-/// error is the bare message; [`load_height_field`] adds the file name.
+/// or `Cursor<&[u8]>` over bytes in memory, e.g. `include_bytes!`), charging
+/// its memory to `budget` before allocating it. The error is the bare
+/// message; [`load_height_field`] adds the file name.
 pub fn decode_height_field<R: BufRead + Seek>(
     reader: R,
     format: ImageFormat,
+    budget: &mut DecodeBudget,
 ) -> Result<LoadedField, String> {
     match format {
-        ImageFormat::Gif => load_gif(reader, false),
-        ImageFormat::Pot => load_gif(reader, true),
-        ImageFormat::Png => load_png(reader),
-        ImageFormat::Pgm | ImageFormat::Ppm => load_pnm(reader),
-        ImageFormat::Tga => load_tga(reader),
+        ImageFormat::Gif => load_gif(reader, false, budget),
+        ImageFormat::Pot => load_gif(reader, true, budget),
+        ImageFormat::Png => load_png(reader, budget),
+        ImageFormat::Pgm | ImageFormat::Ppm => load_pnm(reader, budget),
+        ImageFormat::Tga => load_tga(reader, budget),
     }
+}
+
+/// Charges `n` decoded samples (and, for an interlaced image, the bits
+/// that put them in order) to `budget`.
+fn charge_samples(
+    budget: &mut DecodeBudget,
+    kind: &str,
+    width: u64,
+    depth: u64,
+    sixteen: bool,
+    interlaced: bool,
+) -> Result<(), String> {
+    let n = width * depth;
+    let mut bytes = n * SampleData::sample_bytes(sixteen);
+    if interlaced {
+        bytes += permute_bytes(n as usize);
+    }
+    let bits = if sixteen { 16 } else { 8 };
+    let what = if interlaced {
+        format!("the {width}x{depth} interlaced {kind}'s {bits}-bit samples (and a bit each to put them in order)")
+    } else {
+        format!("the {width}x{depth} {kind}'s {bits}-bit samples")
+    };
+    budget.charge(bytes, &what)
 }
 
 fn kind_name(format: ImageFormat) -> &'static str {
@@ -368,49 +516,68 @@ fn check_size(width: u64, depth: u64, kind: &str) -> Result<usize, String> {
 }
 
 /// A zeroed buffer of `n` elements, failing instead of aborting when memory
-/// is short. Used only for small buffers and for decoders that need the
-/// whole frame at once (interlaced images).
+/// is short. Used only for one row of the file (bounded by [`MAX_SIDE`]),
+/// never for a whole frame.
 fn alloc<T: Clone + Default>(n: usize) -> Result<Vec<T>, String> {
-    let mut v = reserve(n)?;
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)
+        .map_err(|_| format!("out of memory allocating {n} samples"))?;
     v.resize(n, T::default());
     Ok(v)
 }
 
-/// An empty buffer with room for `n` elements, failing instead of aborting
-/// when memory is short. The room is not touched: pages are committed only
-/// as decoded rows are appended, so a corrupt header that claims a huge
-/// image costs little before its data runs out.
-fn reserve<T>(n: usize) -> Result<Vec<T>, String> {
-    let mut v = Vec::new();
-    v.try_reserve_exact(n)
-        .map_err(|_| format!("out of memory allocating {n} samples"))?;
-    Ok(v)
+/// Grows `v` by `w` zeroed elements, towards the `total` the header
+/// announced. Room is added as rows arrive (doubling, capped at `total`),
+/// never sized from the header alone: a header that claims a huge image
+/// over a few bytes of data costs only the rows those bytes decode to.
+fn grow<T: Clone + Default>(v: &mut Vec<T>, w: usize, total: usize) -> Result<(), String> {
+    let need = v.len() + w;
+    if need > v.capacity() {
+        let want = (v.capacity() * 2)
+            .max(need)
+            .max(1 << 16)
+            .min(total.max(need));
+        v.try_reserve_exact(want - v.len())
+            .map_err(|_| format!("out of memory allocating {want} samples"))?;
+    }
+    v.resize(need, T::default());
+    Ok(())
 }
 
 impl SampleData {
-    /// Empty samples with room for `n`: 16-bit when `sixteen`.
-    fn reserve(sixteen: bool, n: usize) -> Result<Self, String> {
-        Ok(if sixteen {
-            SampleData::U16(reserve(n)?)
+    /// No samples yet: 16-bit when `sixteen`.
+    fn empty(sixteen: bool) -> Self {
+        if sixteen {
+            SampleData::U16(Vec::new())
         } else {
-            SampleData::U8(reserve(n)?)
-        })
+            SampleData::U8(Vec::new())
+        }
     }
 
-    /// Appends a zeroed row of `w` samples and returns it.
-    fn push_row(&mut self, w: usize) -> SampleRow<'_> {
-        match self {
+    /// Bytes per sample.
+    fn sample_bytes(sixteen: bool) -> u64 {
+        if sixteen {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// Appends a zeroed row of `w` samples (of `total` expected in all)
+    /// and returns it.
+    fn push_row(&mut self, w: usize, total: usize) -> Result<SampleRow<'_>, String> {
+        Ok(match self {
             SampleData::U8(v) => {
+                grow(v, w, total)?;
                 let len = v.len();
-                v.resize(len + w, 0);
-                SampleRow::U8(&mut v[len..])
+                SampleRow::U8(&mut v[len - w..])
             }
             SampleData::U16(v) => {
+                grow(v, w, total)?;
                 let len = v.len();
-                v.resize(len + w, 0);
-                SampleRow::U16(&mut v[len..])
+                SampleRow::U16(&mut v[len - w..])
             }
-        }
+        })
     }
 
     /// Reverses the order of the rows of `w` samples (bottom-up files).
@@ -427,6 +594,46 @@ impl SampleData {
             SampleData::U16(v) => flip(v, w),
         }
     }
+
+    /// Moves the sample at each index `i` to `dest(i)`, in place (`dest`
+    /// must be a permutation). Interlaced images are decoded compactly in
+    /// the order the file stores them, so memory grows only with the data
+    /// actually present, and put in image order here at the cost of one
+    /// bit per sample ([`permute_bytes`]) instead of a second frame.
+    fn permute(&mut self, dest: impl Fn(usize) -> usize) -> Result<(), String> {
+        fn cycles<T: Copy>(v: &mut [T], dest: impl Fn(usize) -> usize) -> Result<(), String> {
+            let n = v.len();
+            let mut moved = alloc::<u64>(n.div_ceil(64))?;
+            for start in 0..n {
+                if moved[start / 64] & (1 << (start % 64)) != 0 {
+                    continue;
+                }
+                // Follow the cycle through `start`, carrying one sample.
+                let mut carried = v[start];
+                let mut i = start;
+                loop {
+                    moved[i / 64] |= 1 << (i % 64);
+                    let d = dest(i);
+                    if d == start {
+                        v[start] = carried;
+                        break;
+                    }
+                    std::mem::swap(&mut carried, &mut v[d]);
+                    i = d;
+                }
+            }
+            Ok(())
+        }
+        match self {
+            SampleData::U8(v) => cycles(v, dest),
+            SampleData::U16(v) => cycles(v, dest),
+        }
+    }
+}
+
+/// Extra bytes [`SampleData::permute`] needs for `n` samples.
+fn permute_bytes(n: usize) -> u64 {
+    n.div_ceil(64) as u64 * 8
 }
 
 /// One destination row.
@@ -471,7 +678,11 @@ fn gif_message(kind: &str, e: gif::DecodingError) -> String {
     }
 }
 
-fn load_gif<R: Read>(reader: R, pot: bool) -> Result<LoadedField, String> {
+fn load_gif<R: Read>(
+    reader: R,
+    pot: bool,
+    budget: &mut DecodeBudget,
+) -> Result<LoadedField, String> {
     let kind = if pot { "POT file" } else { "GIF" };
     let mut opts = gif::DecodeOptions::new();
     opts.set_color_output(gif::ColorOutput::Indexed);
@@ -503,39 +714,34 @@ fn load_gif<R: Read>(reader: R, pot: bool) -> Result<LoadedField, String> {
         (fw, fh)
     };
     let n = check_size(width, depth, kind)?;
+    charge_samples(budget, kind, width, depth, pot, interlaced)?;
     let (w, d) = (width as usize, depth as usize);
-    let mut samples = SampleData::reserve(pot, n)?;
-    let mut each_row = |stored: &[u8]| match samples.push_row(w) {
-        SampleRow::U8(out) => out.copy_from_slice(stored),
-        SampleRow::U16(out) => {
-            let (hi, lo) = stored.split_at(w);
-            for ((o, &h), &l) in out.iter_mut().zip(hi).zip(lo) {
-                *o = u16::from(h) << 8 | u16::from(l);
-            }
-        }
-    };
-    let stride = fw as usize;
-    if interlaced {
-        // Rows arrive in pass order; `read_into_buffer` de-interlaces into
-        // a whole frame, which is then taken top to bottom.
-        let mut frame = alloc::<u8>(stride * d)?;
-        decoder
-            .read_into_buffer(&mut frame)
+    let mut samples = SampleData::empty(pot);
+    // Rows are taken in the order the file stores them (pass order when
+    // interlaced), so memory grows only as rows are decoded.
+    let mut row = alloc::<u8>(fw as usize)?;
+    for y in 0..d {
+        let complete = decoder
+            .fill_buffer(&mut row)
             .map_err(|e| gif_message(kind, e))?;
-        frame.chunks_exact(stride).for_each(&mut each_row);
-    } else {
-        let mut row = alloc::<u8>(stride)?;
-        for y in 0..d {
-            let complete = decoder
-                .fill_buffer(&mut row)
-                .map_err(|e| gif_message(kind, e))?;
-            if !complete {
-                return Err(format!(
-                    "truncated {kind}: the image data ends in row {y} of {d}"
-                ));
-            }
-            each_row(&row);
+        if !complete {
+            return Err(format!(
+                "truncated {kind}: the image data ends in row {y} of {d} (in file order)"
+            ));
         }
+        match samples.push_row(w, n)? {
+            SampleRow::U8(out) => out.copy_from_slice(&row),
+            SampleRow::U16(out) => {
+                let (hi, lo) = row.split_at(w);
+                for ((o, &h), &l) in out.iter_mut().zip(hi).zip(lo) {
+                    *o = u16::from(h) << 8 | u16::from(l);
+                }
+            }
+        }
+    }
+    if interlaced {
+        let order = gif_interlace_order(d);
+        samples.permute(|i| order[i / w] * w + i % w)?;
     }
     Ok(LoadedField {
         samples,
@@ -627,7 +833,53 @@ fn convert_png_row(rows: PngRows, row: &[u8], width: usize, out: &mut SampleRow<
     }
 }
 
-fn load_png<R: BufRead + Seek>(reader: R) -> Result<LoadedField, String> {
+/// One Adam7 pass (or the whole image when not interlaced): its first
+/// sample's index in the compact order, its columns and rows, and its
+/// (x offset, x step, y offset, y step). Empty passes are left out, as
+/// the PNG stores none of their rows.
+type Pass = (usize, usize, usize, [usize; 4]);
+
+fn adam7_passes(w: usize, d: usize, interlaced: bool) -> Vec<Pass> {
+    const ADAM7: [[usize; 4]; 7] = [
+        [0, 8, 0, 8],
+        [4, 8, 0, 8],
+        [0, 4, 4, 8],
+        [2, 4, 0, 4],
+        [0, 2, 2, 4],
+        [1, 2, 0, 2],
+        [0, 1, 1, 2],
+    ];
+    if !interlaced {
+        return vec![(0, w, d, [0, 1, 0, 1])];
+    }
+    let mut start = 0;
+    let mut passes = Vec::new();
+    for step @ [x0, dx, y0, dy] in ADAM7 {
+        let cols = w.saturating_sub(x0).div_ceil(dx);
+        let rows = d.saturating_sub(y0).div_ceil(dy);
+        if cols > 0 && rows > 0 {
+            passes.push((start, cols, rows, step));
+            start += cols * rows;
+        }
+    }
+    passes
+}
+
+/// Where the `i`-th sample in pass order belongs in the image.
+fn adam7_dest(passes: &[Pass], w: usize, i: usize) -> usize {
+    let &(start, cols, _, [x0, dx, y0, dy]) = passes
+        .iter()
+        .rev()
+        .find(|p| p.0 <= i)
+        .expect("the first pass starts at 0");
+    let k = i - start;
+    (y0 + k / cols * dy) * w + x0 + k % cols * dx
+}
+
+fn load_png<R: BufRead + Seek>(
+    reader: R,
+    budget: &mut DecodeBudget,
+) -> Result<LoadedField, String> {
     use png::{BitDepth, ColorType};
     let mut decoder = png::Decoder::new(reader);
     // No transformations: palette indices stay indices, 16-bit stays 16-bit.
@@ -638,7 +890,7 @@ fn load_png<R: BufRead + Seek>(reader: R) -> Result<LoadedField, String> {
     let n = check_size(width, depth, "PNG")?;
     let bits = info.bit_depth as u8;
     let sixteen = info.bit_depth == BitDepth::Sixteen;
-    let (rows, convention) = match (info.color_type, sixteen) {
+    let (rows_kind, convention) = match (info.color_type, sixteen) {
         (ColorType::Indexed, _) => (PngRows::Indexed { bits }, HeightConvention::Indexed),
         (ColorType::Grayscale, false) => {
             (PngRows::Gray8 { bits, stride: 1 }, HeightConvention::Gray8)
@@ -665,31 +917,27 @@ fn load_png<R: BufRead + Seek>(reader: R) -> Result<LoadedField, String> {
         None
     };
     let interlaced = info.interlaced;
+    let sixteen_out = convention == HeightConvention::Gray16;
+    charge_samples(budget, "PNG", width, depth, sixteen_out, interlaced)?;
     let (w, d) = (width as usize, depth as usize);
-    let mut samples = SampleData::reserve(convention == HeightConvention::Gray16, n)?;
+    let mut samples = SampleData::empty(sixteen_out);
+    // Row by row, in the order the file stores them: memory is the samples
+    // decoded so far plus one row. An interlaced (Adam7) image comes as 7
+    // passes of smaller images, kept compactly and put in order at the end.
+    let passes = adam7_passes(w, d, interlaced);
+    for &(_, cols, rows, _) in &passes {
+        for _ in 0..rows {
+            let row = reader.next_row().map_err(png_message)?.ok_or_else(|| {
+                format!(
+                    "truncated PNG: the image data ends after {} of {n} samples",
+                    samples.len()
+                )
+            })?;
+            convert_png_row(rows_kind, row.data(), cols, &mut samples.push_row(cols, n)?);
+        }
+    }
     if interlaced {
-        // Adam7 needs the whole frame before rows are complete.
-        let size = reader
-            .output_buffer_size()
-            .ok_or("PNG image is too large to decode")?;
-        let mut buf = alloc::<u8>(size)?;
-        let out = reader.next_frame(&mut buf).map_err(png_message)?;
-        for row in buf.chunks_exact(out.line_size).take(d) {
-            convert_png_row(rows, row, w, &mut samples.push_row(w));
-        }
-    } else {
-        // Row by row: memory is the samples plus one row.
-        let mut y = 0;
-        while let Some(row) = reader.next_row().map_err(png_message)? {
-            if y >= d {
-                break;
-            }
-            convert_png_row(rows, row.data(), w, &mut samples.push_row(w));
-            y += 1;
-        }
-        if y < d {
-            return Err(format!("truncated PNG: {y} of {d} rows could be decoded"));
-        }
+        samples.permute(|i| adam7_dest(&passes, w, i))?;
     }
     Ok(LoadedField {
         samples,
@@ -778,7 +1026,7 @@ impl<R: BufRead> Bytes<R> {
     }
 }
 
-fn load_pnm<R: BufRead>(reader: R) -> Result<LoadedField, String> {
+fn load_pnm<R: BufRead>(reader: R, budget: &mut DecodeBudget) -> Result<LoadedField, String> {
     let mut bytes = Bytes { r: reader };
     let io_err = |e: io::Error| io_message("Netpbm file", &e);
     let magic = [bytes.next().map_err(io_err)?, bytes.next().map_err(io_err)?];
@@ -805,6 +1053,8 @@ fn load_pnm<R: BufRead>(reader: R) -> Result<LoadedField, String> {
     }
     let kind = if gray { "PGM" } else { "PPM" };
     let n = check_size(u64::from(width), u64::from(depth), kind)?;
+    let sixteen = !(gray && maxval == 255);
+    charge_samples(budget, kind, width.into(), depth.into(), sixteen, false)?;
     let (w, d) = (width as usize, depth as usize);
     let channels = if gray { 1 } else { 3 };
     let wide = maxval > 255;
@@ -816,7 +1066,7 @@ fn load_pnm<R: BufRead>(reader: R) -> Result<LoadedField, String> {
     })?;
     // Output kind: 8-bit gray with maxval 255 stays u8 (Gray8); everything
     // else becomes a 16-bit height (Gray16).
-    let mut samples = SampleData::reserve(!(gray && maxval == 255), n)?;
+    let mut samples = SampleData::empty(sixteen);
     for y in 0..d {
         if ascii {
             for (i, v) in row.iter_mut().enumerate() {
@@ -851,7 +1101,7 @@ fn load_pnm<R: BufRead>(reader: R) -> Result<LoadedField, String> {
                 "corrupt {kind}: sample value {bad} in row {y} exceeds maxval {maxval}"
             ));
         }
-        match samples.push_row(w) {
+        match samples.push_row(w, n)? {
             SampleRow::U8(out) => {
                 for (o, &v) in out.iter_mut().zip(row.iter()) {
                     *o = v as u8;
@@ -906,7 +1156,7 @@ fn tga_rgb(bits: u8, b: &[u8]) -> [u8; 3] {
     }
 }
 
-fn load_tga<R: BufRead>(mut reader: R) -> Result<LoadedField, String> {
+fn load_tga<R: BufRead>(mut reader: R, budget: &mut DecodeBudget) -> Result<LoadedField, String> {
     let io_err = |e: io::Error| io_message("TGA", &e);
     let mut h = [0u8; 18];
     reader.read_exact(&mut h).map_err(|e| {
@@ -975,6 +1225,8 @@ fn load_tga<R: BufRead>(mut reader: R) -> Result<LoadedField, String> {
         }
     }
     let n = check_size(u64::from(width), u64::from(depth), "TGA")?;
+    let eight = mapped || bits == 8;
+    charge_samples(budget, "TGA", width.into(), depth.into(), !eight, false)?;
     let (w, d) = (usize::from(width), usize::from(depth));
     // Skip the image ID; read (or skip) the colour map.
     let mut skip = vec![0u8; id_len];
@@ -996,14 +1248,13 @@ fn load_tga<R: BufRead>(mut reader: R) -> Result<LoadedField, String> {
     });
     let top_first = descriptor & 0x20 != 0;
     let bpp = usize::from(bits.div_ceil(8));
-    let eight = mapped || bits == 8;
     // Pixels are appended in file order (rows flipped at the end for
     // bottom-up files); a row is added when its first pixel arrives.
-    let mut samples = SampleData::reserve(!eight, n)?;
+    let mut samples = SampleData::empty(!eight);
     let mut store = |p: usize, px: &[u8]| -> Result<(), String> {
         let x = p % w;
         if x == 0 {
-            samples.push_row(w);
+            samples.push_row(w, n)?;
         }
         match &mut samples {
             SampleData::U8(out) => {

@@ -29,7 +29,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let format = FORMATS[usize::from(which) % FORMATS.len()];
-    match images::decode_height_field(Cursor::new(file), format) {
+    match images::decode_height_field(Cursor::new(file), format, &mut Default::default()) {
         Ok(field) => {
             let (w, d) = (u64::from(field.width()), u64::from(field.depth()));
             assert!(w >= 2 && d >= 2, "{w}x{d}");

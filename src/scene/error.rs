@@ -51,6 +51,35 @@ impl fmt::Display for Num {
     }
 }
 
+/// Text from the input (a name, a file name, a number as written) shown
+/// in a message: at most [`Echo::MAX_CHARS`] characters, then `…`, with
+/// control characters escaped (`\u{1b}`, `\0`, `\t`), so a huge or
+/// hostile input makes a short, inert message.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Echo<'a>(pub &'a str);
+
+impl Echo<'_> {
+    /// Characters shown before the text is cut.
+    pub const MAX_CHARS: usize = 80;
+}
+
+impl fmt::Display for Echo<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use fmt::Write;
+        for (i, c) in self.0.chars().enumerate() {
+            if i == Self::MAX_CHARS {
+                return f.write_char('…');
+            }
+            if c.is_control() {
+                write!(f, "{}", c.escape_debug())?;
+            } else {
+                f.write_char(c)?;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Three numbers shown as `<a, b, c>`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Triple(pub [f64; 3]);
@@ -251,39 +280,57 @@ impl fmt::Display for DiagnosticKind<'_> {
             K::UnterminatedString => f.write_str(
                 "unterminated string: expected a closing `\"` before the end of the line",
             ),
-            K::BadNumber(t) => write!(f, "number `{t}` is out of range"),
+            K::BadNumber(t) => write!(f, "number `{}` is out of range", Echo(t)),
             K::Expected { expected, found } => write!(f, "expected {expected}, found {found}"),
             K::UnterminatedBlock { block } => write!(
                 f,
-                "unterminated `{block}` block: expected `}}` before end of file"
+                "unterminated `{}` block: expected `}}` before end of file",
+                Echo(block)
             ),
             K::UnknownIdentifier { name, expected } => {
+                let name = Echo(name);
                 write!(f, "unknown identifier `{name}`: expected {expected}")
             }
-            K::NeedsColorsInc { name } => write!(
+            K::NeedsColorsInc { name } => {
+                let name = Echo(name);
+                write!(
                 f,
                 "unknown identifier `{name}`: it is a colors.inc colour; add #include \"colors.inc\" first"
-            ),
-            K::UnknownTopLevel { name } => write!(
-                f,
-                "unknown top-level item `{name}`: expected camera, light_source, background, \
+            )
+            }
+            K::UnknownTopLevel { name } => {
+                let name = Echo(name);
+                write!(
+                    f,
+                    "unknown top-level item `{name}`: expected camera, light_source, background, \
                  global_settings, height_field, plane, sphere, box, cylinder, cone, triangle \
                  or a directive"
-            ),
-            K::UnsupportedDirective { name } => write!(
+                )
+            }
+            K::UnsupportedDirective { name } => {
+                let name = Echo(name);
+                write!(
                 f,
                 "unsupported directive `#{name}`: expected #declare, #local, #include or #version"
-            ),
-            K::UnsupportedInclude { file } => write!(
-                f,
-                "cannot include \"{file}\": only \"colors.inc\" is built in"
-            ),
-            K::UnsupportedDeclaration { found } => write!(
-                f,
-                "expected a float, vector or colour after `=`, found `{found}` \
+            )
+            }
+            K::UnsupportedInclude { file } => {
+                let file = Echo(file);
+                write!(
+                    f,
+                    "cannot include \"{file}\": only \"colors.inc\" is built in"
+                )
+            }
+            K::UnsupportedDeclaration { found } => {
+                let found = Echo(found);
+                write!(
+                    f,
+                    "expected a float, vector or colour after `=`, found `{found}` \
                  (only float, vector and colour declarations are supported)"
-            ),
+                )
+            }
             K::KeywordDeclared { name } => {
+                let name = Echo(name);
                 write!(f, "expected a new identifier, found keyword `{name}`")
             }
             K::WrongArity { expected, found } => write!(f, "expected {expected}, found {found}"),
@@ -297,10 +344,9 @@ impl fmt::Display for DiagnosticKind<'_> {
             K::OutOfRange { what, range, value } => {
                 write!(f, "{what} must be {range}, found {}", Num(value))
             }
-            K::ScaleNotPositive { factors } => write!(
-                f,
-                "expected positive scale factors, found {factors}"
-            ),
+            K::ScaleNotPositive { factors } => {
+                write!(f, "expected positive scale factors, found {factors}")
+            }
             K::CameraLookAtIsLocation { point } => write!(
                 f,
                 "degenerate camera: expected look_at different from location, found both at {point}"
@@ -317,16 +363,25 @@ impl fmt::Display for DiagnosticKind<'_> {
             K::TooMany { what, capacity } => write!(f, "too many {what} (capacity {capacity})"),
             K::TooDeep { limit } => write!(f, "nesting too deep (limit {limit} levels)"),
             K::EmptyFileName => f.write_str("expected a file name, found an empty string"),
-            K::UnsupportedImageFormat { name } => write!(
+            K::UnsupportedImageFormat { name } => {
+                let name = Echo(name);
+                write!(
                 f,
                 "unsupported height_field format `{name}`: expected gif, png, pgm, ppm, tga or pot"
-            ),
-            K::UnknownImageExtension { file } => write!(
-                f,
-                "cannot tell the image format of \"{file}\" from its extension: \
+            )
+            }
+            K::UnknownImageExtension { file } => {
+                let file = Echo(file);
+                write!(
+                    f,
+                    "cannot tell the image format of \"{file}\" from its extension: \
                  expected gif, png, pgm, ppm, tga or pot before the file name"
-            ),
-            K::NotSupported { what, hint } => write!(f, "`{what}` is not supported: {hint}"),
+                )
+            }
+            K::NotSupported { what, hint } => {
+                let what = Echo(what);
+                write!(f, "`{what}` is not supported: {hint}")
+            }
             K::NotApplicable { what, object } => {
                 write!(f, "`{what}` does not apply to {object}")
             }
@@ -343,6 +398,7 @@ impl fmt::Display for DiagnosticKind<'_> {
                 context,
                 strict,
             } => {
+                let what = Echo(what);
                 if strict {
                     write!(
                         f,

@@ -10,13 +10,15 @@
 //!   raw text between the quotes).
 //! - Comments: `// ..` to end of line and `/* .. */`, which nest as in
 //!   POV-Ray.
+//! - A UTF-8 byte-order mark (U+FEFF) at the start of the text is
+//!   skipped, as POV-Ray skips it; anywhere else it is a stray character.
 //! - Any other character becomes a [`TokenKind::Char`] token for the parser
 //!   to reject with a position; the lexer itself never panics and every
 //!   call consumes at least one character or reports end of input.
 
 use core::fmt;
 
-use super::error::{Diagnostic, DiagnosticKind};
+use super::error::{Diagnostic, DiagnosticKind, Echo};
 
 /// A position in the source: 1-based line and column (columns count
 /// Unicode scalar values, a tab counts as one).
@@ -75,9 +77,9 @@ impl fmt::Display for TokenKind<'_> {
     /// Describes the token for "found ..." in messages.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            TokenKind::Ident(s) => write!(f, "`{s}`"),
+            TokenKind::Ident(s) => write!(f, "`{}`", Echo(s)),
             TokenKind::Number(v) => write!(f, "number {v}"),
-            TokenKind::Str(s) => write!(f, "string \"{s}\""),
+            TokenKind::Str(s) => write!(f, "string \"{}\"", Echo(s)),
             TokenKind::LBrace => f.write_str("`{`"),
             TokenKind::RBrace => f.write_str("`}`"),
             TokenKind::Lt => f.write_str("`<`"),
@@ -118,11 +120,16 @@ pub struct Lexer<'src> {
 }
 
 impl<'src> Lexer<'src> {
-    /// A lexer at the start of `src`.
+    /// A lexer at the start of `src`. A UTF-8 byte-order mark at the very
+    /// start is skipped (POV-Ray accepts one); it takes no column.
     pub fn new(src: &'src str) -> Self {
         Lexer {
             src,
-            off: 0,
+            off: if src.starts_with('\u{feff}') {
+                '\u{feff}'.len_utf8()
+            } else {
+                0
+            },
             pos: Pos { line: 1, col: 1 },
         }
     }

@@ -66,7 +66,7 @@ pub mod lexer;
 pub mod model;
 mod parser;
 
-pub use error::{Diagnostic, DiagnosticKind, Severity};
+pub use error::{Diagnostic, DiagnosticKind, Echo, Severity};
 pub use lexer::Pos;
 pub use model::*;
-pub use parser::{parse_scene, ParseOptions, MAX_DECLARATIONS, MAX_DEPTH};
+pub use parser::{parse_scene, parse_scene_located, ParseOptions, MAX_DECLARATIONS, MAX_DEPTH};

@@ -66,6 +66,19 @@ pub fn parse_scene<'src, const O: usize, const L: usize>(
     options: &ParseOptions,
     warn: &mut dyn FnMut(&Diagnostic<'src>),
 ) -> Result<Scene<'src, O, L>, Diagnostic<'src>> {
+    parse_scene_located(src, options, warn, &mut |_, _| {})
+}
+
+/// [`parse_scene`], also telling `located` where each object was written:
+/// its index in [`Scene::objects`] and the position of its keyword. A
+/// caller that finds a problem with an object after parsing (its image,
+/// its placement, its shape) can then report it at the object.
+pub fn parse_scene_located<'src, const O: usize, const L: usize>(
+    src: &'src str,
+    options: &ParseOptions,
+    warn: &mut dyn FnMut(&Diagnostic<'src>),
+    located: &mut dyn FnMut(usize, Pos),
+) -> Result<Scene<'src, O, L>, Diagnostic<'src>> {
     let mut lex = Lexer::new(src);
     let tok = lex.next_token()?;
     let mut p = Parser {
@@ -122,6 +135,7 @@ pub fn parse_scene<'src, const O: usize, const L: usize>(
                                 },
                             )
                         })?;
+                        located(scene.objects.len() - 1, tok.pos);
                         if is_field {
                             fields += 1;
                         }
