@@ -32,12 +32,12 @@ pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 /// the file.
 pub fn read_scene_text(path: &Path) -> Result<String, String> {
     use std::io::Read;
-    let err = |e: std::io::Error| format!("{}: {e}", path.display());
+    let err = |e: std::io::Error| format!("{}: {e}", shown_path(path));
     let file = std::fs::File::open(path).map_err(err)?;
     if file.metadata().map_err(err)?.is_dir() {
         return Err(format!(
             "{}: is a directory, not a scene file",
-            path.display()
+            shown_path(path)
         ));
     }
     let mut bytes = Vec::new();
@@ -47,13 +47,13 @@ pub fn read_scene_text(path: &Path) -> Result<String, String> {
     if bytes.len() as u64 > MAX_SCENE_BYTES {
         return Err(format!(
             "{}: scene file is larger than {MAX_SCENE_BYTES} bytes (16 MiB), the most accepted",
-            path.display()
+            shown_path(path)
         ));
     }
     String::from_utf8(bytes).map_err(|e| {
         format!(
             "{}: scene file is not UTF-8 text (invalid byte at offset {})",
-            path.display(),
+            shown_path(path),
             e.utf8_error().valid_up_to()
         )
     })
