@@ -135,8 +135,14 @@ fn missing_height_field_image_is_named_in_the_error() {
 #[test]
 fn bad_arguments_exit_1_with_a_message() {
     for (args, needle) in [
-        (&["examples/scenes/default.pov"][..], "no output file"),
-        (&["-o", "x.tga"][..], "no scene file"),
+        (
+            &["examples/scenes/default.pov"][..],
+            "the following required arguments were not provided:\n  --output <OUT>",
+        ),
+        (
+            &["-o", "x.tga"][..],
+            "the following required arguments were not provided:\n  <SCENE.pov>",
+        ),
         (
             &["examples/scenes/default.pov", "-o", "x.bmp"][..],
             "unknown output type",
