@@ -449,26 +449,26 @@ impl<'a> HeightField<'a> {
         self.convention.multiplier()
     }
 
-    /// Heights of cell `(x, z)`'s corners in units of 1/65536:
+    /// Raw samples of cell `(x, z)`'s corners (heights in units of 1/65536
+    /// are these times [`units_per_sample`](Self::units_per_sample)):
     /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
     #[inline(always)]
-    pub(crate) fn cell_units(&self, x: u32, z: u32) -> [u32; 4] {
+    pub(crate) fn cell_raw(&self, x: u32, z: u32) -> [u32; 4] {
         let w = self.width as usize;
         // Grid row z is image row depth - 1 - z; grid row z + 1 the one above.
         let lower = (self.depth - 1 - z) as usize * w + x as usize;
         let upper = lower.wrapping_sub(w);
-        let m = self.convention.multiplier();
         // `upper < lower` (z < depth − 1), subtracted without an overflow
         // check (a wrapped `upper` fails its bounds check): the check of
         // `lower + 1` covers `lower`, three checks for four samples.
         match self.samples {
             Samples::U8(s) => {
                 let (b, c) = (s[lower + 1], s[upper]);
-                [s[lower], b, c, s[upper + 1]].map(|v| v as u32 * m)
+                [s[lower], b, c, s[upper + 1]].map(|v| v as u32)
             }
             Samples::U16(s) => {
                 let (b, c) = (s[lower + 1], s[upper]);
-                [s[lower], b, c, s[upper + 1]].map(|v| v as u32 * m)
+                [s[lower], b, c, s[upper + 1]].map(|v| v as u32)
             }
         }
     }

@@ -152,17 +152,10 @@ impl<S: Real> Axis<S> {
     }
 }
 
-/// `⌈256 / log2⌉`, for [`changed_level`]: `(h · it) >> 8 = ⌊h / log2⌋` for
-/// every `h < 32` and `log2` in `1..=8` (unit-checked).
-#[inline]
-fn level_recip(log2: u32) -> u32 {
-    256u32.div_ceil(log2.max(1))
-}
-
 /// The coarsest level, at most `top`, whose block (of `2^(log2·level)`
 /// cells per side, aligned) differs between two cells whose coordinates
 /// differ in the bits `diff`: the level of `diff`'s highest set bit
-/// (0 when `diff` is 0). `recip` is [`level_recip`]`(log2)`.
+/// (0 when `diff` is 0). `recip` is [`crate::skip::level_recip`]`(log2)`.
 #[inline(always)]
 fn changed_level(diff: u32, recip: u32, top: u32) -> u32 {
     let high = 31 - (diff | 1).leading_zeros();
@@ -237,6 +230,8 @@ struct Walk<S> {
     cells_v: i32,
     water: S,
     water_units: u32,
+    /// Height units per raw sample step.
+    mult: u32,
     /// The water level can cull: `false` when both water tests of the culls
     /// (`units < water_units`, `y < water`) are implied by the height tests
     /// (`water_units = 0` and `water ≤ 0`, the height of 0 units).
@@ -345,28 +340,26 @@ impl<S: Real> Walk<S> {
         };
         let t_b = t_exit.max(t_a);
 
-        let raw = field.cell_units(i as u32, j as u32);
-        let c_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
-        let c_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
+        // Raw samples: the extremes are taken before the conversion to
+        // heights (monotone), which then happens twice, not four times.
+        let raw = field.cell_raw(i as u32, j as u32);
+        let mult = self.mult;
+        let r_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
+        let r_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
         let y_a = c.y_a;
         let y_b = o[1] + t_b * d[1];
         // `y` is never NaN (finite ray, finite `t`): the ordered pair.
         let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
-        let culled = y_low > S::from_height_units(c_max)
-            || y_high < S::from_height_units(c_min)
-            || (self.wet && (c_max < self.water_units || y_high < self.water));
+        let culled = y_low > S::from_raw_height(r_max, mult)
+            || y_high < S::from_raw_height(r_min, mult)
+            || (self.wet && (r_max * mult < self.water_units || y_high < self.water));
         if !culled {
             let cell = Cell {
                 origin: &self.o,
                 dir: &self.d,
                 cu: S::from_i32(i),
                 cv: S::from_i32(j),
-                corners: Corners {
-                    h00: S::from_height_units(raw[0]),
-                    h10: S::from_height_units(raw[1]),
-                    h01: S::from_height_units(raw[2]),
-                    h11: S::from_height_units(raw[3]),
-                },
+                corners: Corners::from_raw(raw, mult),
                 water: self.water,
             };
             let a = cell.point(t_a, c.entry);
@@ -467,7 +460,7 @@ impl<S: Real> Walk<S> {
         let (o, d) = (self.o, self.d);
         let (su, sv) = (self.au.step, self.av.step);
         let log2 = skip.block_log2() as u32;
-        let mult = field.units_per_sample();
+        let mult = self.mult;
         let mut open = [(u32::MAX, u32::MAX); MAX_LEVELS as usize];
         // Each pass visits a cell (at most cells_u + cells_v + 1 of them),
         // or jumps a block (which also advances at least one cell), or marks
@@ -500,10 +493,9 @@ impl<S: Real> Walk<S> {
                     let y_b = o[1] + t_end * d[1];
                     let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
                     let (lo, hi) = skip.raw_bounds(level, bi, bj);
-                    let (b_min, b_max) = (lo * mult, hi * mult);
-                    let culled = b_max < self.water_units
-                        || y_low > S::from_height_units(b_max)
-                        || y_high < S::from_height_units(b_min)
+                    let culled = hi * mult < self.water_units
+                        || y_low > S::from_raw_height(hi, mult)
+                        || y_high < S::from_raw_height(lo, mult)
                         || y_high < self.water;
                     if culled {
                         if self.t_far <= t_block {
@@ -576,9 +568,9 @@ impl<S: Real> Walk<S> {
         let (off_u, off_v) = (self.au.off, self.av.off);
         let (cells_u, cells_v) = (self.cells_u, self.cells_v);
         let log2 = skip.block_log2() as u32;
-        let recip = level_recip(log2);
+        let recip = skip.level_recip();
         let top = top as u32;
-        let mult = field.units_per_sample();
+        let mult = self.mult;
         let (i0, j0) = (start.i, start.j);
         let mut c = self.cursor(i0, j0, start.t_a, start.entry);
         // The walk is in block `(c.i >> shift, c.j >> shift)` of `level`
@@ -639,10 +631,9 @@ impl<S: Real> Walk<S> {
                 // the ordered pair of the cell cull.
                 let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
                 let (lo, hi) = skip.walk_bounds(level, bi as u32, bj as u32);
-                let (b_min, b_max) = (lo * mult, hi * mult);
-                let culled = y_low > S::from_height_units(b_max)
-                    || y_high < S::from_height_units(b_min)
-                    || (self.wet && (b_max < self.water_units || y_high < self.water));
+                let culled = y_low > S::from_raw_height(hi, mult)
+                    || y_high < S::from_raw_height(lo, mult)
+                    || (self.wet && (hi * mult < self.water_units || y_high < self.water));
                 if !culled {
                     if !exact {
                         c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, log2);
@@ -1073,18 +1064,12 @@ fn starts_above<S: Real>(
     j: i32,
     t_near: S,
 ) -> bool {
-    let raw = field.cell_units(i as u32, j as u32);
     let cell = Cell {
         origin: &walk.o,
         dir: &walk.d,
         cu: S::from_i32(i),
         cv: S::from_i32(j),
-        corners: Corners {
-            h00: S::from_height_units(raw[0]),
-            h10: S::from_height_units(raw[1]),
-            h01: S::from_height_units(raw[2]),
-            h11: S::from_height_units(raw[3]),
-        },
+        corners: Corners::from_raw(field.cell_raw(i as u32, j as u32), walk.mult),
         water: walk.water,
     };
     cell.point(t_near, Place::Interior).g > S::ZERO
@@ -1133,7 +1118,7 @@ fn walk<S: Real>(
     let au = Axis::new(d[0]);
     let ay = Axis::new(d[1]);
     let av = Axis::new(d[2]);
-    let water = S::from_f64(field.water_level() as f64 * S::Y_SCALE);
+    let water = S::from_water_level(field.water_level());
     // The height slab is widened so that the ray enters and leaves it
     // strictly above and below the surface: clipped exactly at a flat
     // field's height, a rounded `y(t)` could land on either side and the
@@ -1171,6 +1156,7 @@ fn walk<S: Real>(
         cells_v,
         water,
         water_units,
+        mult: field.units_per_sample(),
         wet: water_units != 0 || water > S::ZERO,
         v_strict: true,
     };
@@ -1250,7 +1236,8 @@ impl<S: Real> Walk<S> {
 
 #[cfg(test)]
 mod tests {
-    use super::{block_exit, changed_level, level_recip, Exit};
+    use super::{block_exit, changed_level, Exit};
+    use crate::skip::level_recip;
 
     /// `changed_level` against the loop it replaces (ascend while the
     /// next level's block changed), for every layout and cell difference
