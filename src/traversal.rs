@@ -619,8 +619,13 @@ impl<S: Real> Walk<S> {
                 // side of its last column (row), as `au.exit(last column)`
                 // computes it. `(b + 1) << shift` is at most 2^20 + 2^30: no
                 // overflow. (Parallel axis: any line; its exit is "never".)
-                let u_edge = ((bi + off_u) << shift).min(cells_u);
-                let v_edge = ((bj + off_v) << shift).min(cells_v);
+                // Not clamped to the field: past the far edge a line's
+                // parameter is at least the edge's, which is at least `t_far`
+                // (the slab computes it by the same expression), so the cull's
+                // range ends at `t_far` and the walk ends or steps along the
+                // other axis exactly as with the edge itself.
+                let u_edge = (bi + off_u) << shift;
+                let v_edge = (bj + off_v) << shift;
                 let (tu_edge, tv_edge) =
                     (self.au.at_line(u_edge, o[0]), self.av.at_line(v_edge, o[2]));
                 let t_block = tu_edge.min(tv_edge);
