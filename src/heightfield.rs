@@ -16,6 +16,7 @@
 
 use glam::{DAffine3, DVec3, Vec3};
 
+use crate::cell::Corners;
 use crate::ray::{FieldHit, Ray, Triangle};
 use crate::real::{Numeric, Real};
 use crate::skip::{SkipError, SkipGrid};
@@ -756,14 +757,14 @@ impl<'a> HeightField<'a> {
         }
     }
 
-    /// Height of the triangle's plane at local `(fu, fv)`.
+    /// Height of the triangle's plane at local `(fu, fv)`. The corners are
+    /// read once ([`cell_raw`](Self::cell_raw)); each is the value
+    /// [`height_at`](Self::height_at) gives (both exact).
     fn surface_height(&self, x: u32, z: u32, tri: Triangle, fu: f32, fv: f32) -> f32 {
-        let h = |dx, dz| self.height_at(x + dx, z + dz);
+        let c = Corners::<f32>::from_raw(self.cell_raw(x, z), self.units_per_sample());
         match tri {
-            Triangle::A => h(0, 0) + fu * (h(1, 0) - h(0, 0)) + fv * (h(0, 1) - h(0, 0)),
-            Triangle::B => {
-                h(1, 1) + (1.0 - fu) * (h(0, 1) - h(1, 1)) + (1.0 - fv) * (h(1, 0) - h(1, 1))
-            }
+            Triangle::A => c.h00 + fu * (c.h10 - c.h00) + fv * (c.h01 - c.h00),
+            Triangle::B => c.h11 + (1.0 - fu) * (c.h01 - c.h11) + (1.0 - fv) * (c.h10 - c.h11),
         }
     }
 

@@ -207,17 +207,20 @@ impl Real for f32 {
     fn from_raw_height(raw: u32, mult: u32) -> Self {
         raw as f32 * (mult as f32 * (1.0 / 65536.0))
     }
-    /// [`float_strict`]'s conditions checked in `f32` (no `f64` per ray
-    /// on single-precision FPUs). The limits are powers of two and rounding
-    /// is monotone, so each comparison on rounded values implies it on the
-    /// exact ones: `fl(|k − o|) < 2^21` implies `|k − o| < 2^21`, and
-    /// `fl(X·|inv|) < 2^99` implies `X·|inv| < 2^100` (`X` is at most half
-    /// an ulp above its rounded value).
+    /// [`float_strict`]'s conditions, implied by simpler ones checked in
+    /// `f32` (no `f64` per ray on single-precision FPUs): with `|lo|`,
+    /// `|hi| ≤ 2^20` and `|origin| < 2^20`, every `|k − o| < 2^21`; with
+    /// `2^-100 ≤ |inv| < 2^79` on top, `X·|inv| < 2^100`. (Origins 2^20 or
+    /// more cells away answer `false`: they walk without the hierarchy.)
     #[inline]
     fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
-        let x = (lo as f32 - origin).abs().max((hi as f32 - origin).abs());
+        const SIDE: u32 = 1 << 20;
         let a = inv.abs();
-        x < 2_097_152.0 && a >= 1.0 / (1u128 << 100) as f32 && x * a < (1u128 << 99) as f32
+        lo.unsigned_abs() <= SIDE
+            && hi.unsigned_abs() <= SIDE
+            && origin.abs() < SIDE as f32
+            && a >= 1.0 / (1u128 << 100) as f32
+            && a < (1u128 << 79) as f32
     }
     #[inline]
     fn from_water_level(level: f32) -> Self {
