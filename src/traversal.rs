@@ -641,7 +641,7 @@ impl<S: Real> Walk<S> {
                     || (self.wet && (hi * mult < self.water_units || y_high < self.water));
                 if !culled {
                     if !exact {
-                        c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, log2);
+                        c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, c.y_a, log2);
                         exact = true;
                     }
                     level -= 1;
@@ -700,12 +700,13 @@ impl<S: Real> Walk<S> {
         i0: i32,
         j0: i32,
         t_a: S,
+        y_a: S,
         log2: u32,
     ) -> Cursor<S> {
         let (o, d) = (self.o, self.d);
         let (su, sv) = (self.au.step, self.av.step);
         let shift = log2 * level;
-        // First and last cell of the block along the walk, per axis.
+        // First and last cell of the block along the walk, on one axis.
         let span = |b: i32, s: i32, cells: i32| {
             let lo = b << shift;
             let hi = (((b + 1) << shift) - 1).min(cells - 1);
@@ -715,39 +716,57 @@ impl<S: Real> Walk<S> {
                 (lo, hi)
             }
         };
-        let (iu_first, iu_last) = span(bi, su, self.cells_u);
-        let (jv_first, jv_last) = span(bj, sv, self.cells_v);
-        let (i_entered, j_entered) = (i, j);
         // Along the axis the step did not cross: the first line (row or
         // column) from the block's first, never before the start's, whose
-        // exit parameter is past `t_a`; entered at a vertex when the line
-        // before it is left exactly at `t_a`.
-        let other = |axis: &Axis<S>, o: S, d: S, first: i32, last: i32, start: i32| {
+        // exit parameter is past `t_a`, with that parameter; entered at a
+        // vertex when the line before it is left exactly at `t_a`.
+        let other = |axis: &Axis<S>, o: S, d: S, b: i32, cells: i32, start: i32| {
             if axis.step == 0 {
-                return (start, false);
+                return (start, S::MAX, false);
             }
+            let (first, last) = span(b, axis.step, cells);
             let from = if axis.step > 0 {
                 first.max(start)
             } else {
                 first.min(start)
             };
             let guess = (o + t_a * d).floor_i32();
-            let k = first_true(|k| axis.exit(k, o) > t_a, from, last, axis.step, guess);
-            (k, k != start && axis.exit(k - axis.step, o) == t_a)
+            let (k, exit, before) = first_exit_past(axis, o, t_a, from, last, guess);
+            let corner = k != start && before.unwrap_or_else(|| axis.exit(k - axis.step, o)) == t_a;
+            (k, exit, corner)
         };
         let vertex = Place::Vertex(su < 0, sv < 0);
+        // `y_a` is `o_y + t_a·d_y`, the value `cursor` would compute.
         match side {
             Exit::U => {
-                let (j, corner) = other(&self.av, o[2], d[2], jv_first, jv_last, j0);
-                let place = if corner { vertex } else { Place::EdgeU(su < 0) };
-                self.cursor(i_entered, j, t_a, place)
+                let (j, tv, corner) = other(&self.av, o[2], d[2], bj, self.cells_v, j0);
+                let entry = if corner { vertex } else { Place::EdgeU(su < 0) };
+                let tu = self.au.exit(i, o[0]);
+                Cursor {
+                    i,
+                    j,
+                    t_a,
+                    y_a,
+                    tu,
+                    tv,
+                    entry,
+                }
             }
             Exit::V => {
-                let (i, corner) = other(&self.au, o[0], d[0], iu_first, iu_last, i0);
-                let place = if corner { vertex } else { Place::EdgeV(sv < 0) };
-                self.cursor(i, j_entered, t_a, place)
+                let (i, tu, corner) = other(&self.au, o[0], d[0], bi, self.cells_u, i0);
+                let entry = if corner { vertex } else { Place::EdgeV(sv < 0) };
+                let tv = self.av.exit(j, o[2]);
+                Cursor {
+                    i,
+                    j,
+                    t_a,
+                    y_a,
+                    tu,
+                    tv,
+                    entry,
+                }
             }
-            _ => self.cursor(i_entered, j_entered, t_a, vertex),
+            _ => self.cursor(i, j, t_a, vertex),
         }
     }
 
@@ -821,6 +840,47 @@ fn first_true(pred: impl Fn(i32) -> bool, from: i32, to: i32, step: i32, guess: 
         }
     }
     k
+}
+
+/// [`first_true`] for "the exit parameter of line `k` is past `t_a`" along
+/// `axis` (moving), returning also that parameter and, when it was computed
+/// on the way, the exit parameter of the line before (`k − step`): the
+/// values the caller needs next, each computed once.
+#[inline(always)]
+fn first_exit_past<S: Real>(
+    axis: &Axis<S>,
+    o: S,
+    t_a: S,
+    from: i32,
+    last: i32,
+    guess: i32,
+) -> (i32, S, Option<S>) {
+    let step = axis.step;
+    let (lo, hi) = if step > 0 { (from, last) } else { (last, from) };
+    let mut k = guess.clamp(lo, hi);
+    let mut exit = axis.exit(k, o);
+    if exit > t_a {
+        while k != from {
+            let before = axis.exit(k - step, o);
+            if !(before > t_a) {
+                return (k, exit, Some(before));
+            }
+            k -= step;
+            exit = before;
+        }
+        (k, exit, None)
+    } else {
+        let mut before = None;
+        while k != last {
+            before = Some(exit);
+            k += step;
+            exit = axis.exit(k, o);
+            if exit > t_a {
+                break;
+            }
+        }
+        (k, exit, before)
+    }
 }
 
 /// Where the flat walk leaves a block, computed without visiting its cells.
