@@ -207,7 +207,7 @@ impl Real for f32 {
     fn from_raw_height(raw: u32, mult: u32) -> Self {
         raw as f32 * (mult as f32 * (1.0 / 65536.0))
     }
-    /// [`float_strict`]'s conditions, implied by simpler ones checked in
+    /// `float_strict`'s conditions, implied by simpler ones checked in
     /// `f32` (no `f64` per ray on single-precision FPUs): with `|lo|`,
     /// `|hi| ≤ 2^20` and `|origin| < 2^20`, every `|k − o| < 2^21`; with
     /// `2^-100 ≤ |inv| < 2^79` on top, `X·|inv| < 2^100`. (Origins 2^20 or
