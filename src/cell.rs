@@ -28,6 +28,18 @@ pub(crate) struct Corners<S> {
 }
 
 impl<S: Real> Corners<S> {
+    /// The corners of a cell from its raw samples
+    /// (`HeightField::cell_raw`), `mult` height units per sample step.
+    #[inline(always)]
+    pub fn from_raw(raw: [u32; 4], mult: u32) -> Self {
+        Corners {
+            h00: S::from_raw_height(raw[0], mult),
+            h10: S::from_raw_height(raw[1], mult),
+            h01: S::from_raw_height(raw[2], mult),
+            h11: S::from_raw_height(raw[3], mult),
+        }
+    }
+
     /// Height of the plane of the triangle containing local `(fu, fv)`.
     #[inline]
     pub fn plane_height(&self, fu: S, fv: S) -> S {

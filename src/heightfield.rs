@@ -16,6 +16,7 @@
 
 use glam::{DAffine3, DVec3, Vec3};
 
+use crate::cell::Corners;
 use crate::ray::{FieldHit, Ray, Triangle};
 use crate::real::{Numeric, Real};
 use crate::skip::{SkipError, SkipGrid};
@@ -449,26 +450,26 @@ impl<'a> HeightField<'a> {
         self.convention.multiplier()
     }
 
-    /// Heights of cell `(x, z)`'s corners in units of 1/65536:
+    /// Raw samples of cell `(x, z)`'s corners (heights in units of 1/65536
+    /// are these times [`units_per_sample`](Self::units_per_sample)):
     /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
     #[inline(always)]
-    pub(crate) fn cell_units(&self, x: u32, z: u32) -> [u32; 4] {
+    pub(crate) fn cell_raw(&self, x: u32, z: u32) -> [u32; 4] {
         let w = self.width as usize;
         // Grid row z is image row depth - 1 - z; grid row z + 1 the one above.
         let lower = (self.depth - 1 - z) as usize * w + x as usize;
         let upper = lower.wrapping_sub(w);
-        let m = self.convention.multiplier();
         // `upper < lower` (z < depth − 1), subtracted without an overflow
         // check (a wrapped `upper` fails its bounds check): the check of
         // `lower + 1` covers `lower`, three checks for four samples.
         match self.samples {
             Samples::U8(s) => {
                 let (b, c) = (s[lower + 1], s[upper]);
-                [s[lower], b, c, s[upper + 1]].map(|v| v as u32 * m)
+                [s[lower], b, c, s[upper + 1]].map(|v| v as u32)
             }
             Samples::U16(s) => {
                 let (b, c) = (s[lower + 1], s[upper]);
-                [s[lower], b, c, s[upper + 1]].map(|v| v as u32 * m)
+                [s[lower], b, c, s[upper + 1]].map(|v| v as u32)
             }
         }
     }
@@ -756,14 +757,14 @@ impl<'a> HeightField<'a> {
         }
     }
 
-    /// Height of the triangle's plane at local `(fu, fv)`.
+    /// Height of the triangle's plane at local `(fu, fv)`. The corners are
+    /// read once ([`cell_raw`](Self::cell_raw)); each is the value
+    /// [`height_at`](Self::height_at) gives (both exact).
     fn surface_height(&self, x: u32, z: u32, tri: Triangle, fu: f32, fv: f32) -> f32 {
-        let h = |dx, dz| self.height_at(x + dx, z + dz);
+        let c = Corners::<f32>::from_raw(self.cell_raw(x, z), self.units_per_sample());
         match tri {
-            Triangle::A => h(0, 0) + fu * (h(1, 0) - h(0, 0)) + fv * (h(0, 1) - h(0, 0)),
-            Triangle::B => {
-                h(1, 1) + (1.0 - fu) * (h(0, 1) - h(1, 1)) + (1.0 - fv) * (h(1, 0) - h(1, 1))
-            }
+            Triangle::A => c.h00 + fu * (c.h10 - c.h00) + fv * (c.h01 - c.h00),
+            Triangle::B => c.h11 + (1.0 - fu) * (c.h01 - c.h11) + (1.0 - fv) * (c.h10 - c.h11),
         }
     }
 

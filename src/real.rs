@@ -75,6 +75,16 @@ pub trait Real:
     /// `units / 65536`: a height in the units the field stores. Exact for
     /// every implementation (heights are multiples of 2^-16 below 1).
     fn from_height_units(units: u32) -> Self;
+    /// [`from_height_units`](Self::from_height_units)`(raw · mult)`, the
+    /// height of a raw sample `raw` of a field with `mult` height units per
+    /// sample step (`raw · mult < 2^16`). Floats override it with
+    /// `raw · (mult / 65536)`: every factor and the product are exact, so it
+    /// is the same value, and the loop-invariant `mult / 65536` is hoisted
+    /// (no integer multiply per sample).
+    #[inline]
+    fn from_raw_height(raw: u32, mult: u32) -> Self {
+        Self::from_height_units(raw * mult)
+    }
     /// `true` only if the boundary parameters `(k − origin)·inv`, computed
     /// in this type as the traversal computes them, are *strictly* monotone
     /// in the integer `k` over `lo..=hi` (neighbouring grid lines never
@@ -95,6 +105,13 @@ pub trait Real:
     /// scales alike. 1 for floats; fixed point uses more of its fraction
     /// bits for heights, which span only `[0, 1)` while `u`, `v` span cells.
     const Y_SCALE: f64 = 1.0;
+
+    /// The water level `level` (object units) in the walk's height
+    /// coordinate: `level · Y_SCALE`, rounded once.
+    #[inline]
+    fn from_water_level(level: f32) -> Self {
+        Self::from_f64(level as f64 * Self::Y_SCALE)
+    }
 
     /// Carries a world ray (origin, direction) into a field's grid space.
     /// The default goes through `f64` and rounds once (exact enough for
@@ -187,15 +204,28 @@ impl Real for f32 {
         units as f32 * (1.0 / 65536.0)
     }
     #[inline]
+    fn from_raw_height(raw: u32, mult: u32) -> Self {
+        raw as f32 * (mult as f32 * (1.0 / 65536.0))
+    }
+    /// `float_strict`'s conditions, implied by simpler ones checked in
+    /// `f32` (no `f64` per ray on single-precision FPUs): with `|lo|`,
+    /// `|hi| ≤ 2^20` and `|origin| < 2^20`, every `|k − o| < 2^21`; with
+    /// `2^-100 ≤ |inv| < 2^79` on top, `X·|inv| < 2^100`. (Origins 2^20 or
+    /// more cells away answer `false`: they walk without the hierarchy.)
+    #[inline]
     fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
-        float_strict(
-            origin as f64,
-            inv as f64,
-            lo,
-            hi,
-            2_097_152.0,
-            1.267_650_600_228_229_4e30,
-        )
+        const SIDE: u32 = 1 << 20;
+        let a = inv.abs();
+        lo.unsigned_abs() <= SIDE
+            && hi.unsigned_abs() <= SIDE
+            && origin.abs() < SIDE as f32
+            && a >= 1.0 / (1u128 << 100) as f32
+            && a < (1u128 << 79) as f32
+    }
+    #[inline]
+    fn from_water_level(level: f32) -> Self {
+        // `Y_SCALE` is 1: exact.
+        level
     }
     #[inline]
     fn to_grid(map: &GridTransform, origin: [f32; 3], dir: [f32; 3]) -> ([f32; 3], [f32; 3]) {
@@ -246,6 +276,10 @@ impl Real for f64 {
     #[inline]
     fn from_height_units(units: u32) -> Self {
         units as f64 * (1.0 / 65536.0)
+    }
+    #[inline]
+    fn from_raw_height(raw: u32, mult: u32) -> Self {
+        raw as f64 * (mult as f64 * (1.0 / 65536.0))
     }
     #[inline]
     fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
@@ -420,4 +454,31 @@ mod fixed_point {
         32,
         16
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Real;
+
+    /// The float overrides of `from_raw_height` give `from_height_units`'
+    /// value for every sample of every convention (8-bit indexed and gray,
+    /// 16-bit).
+    #[test]
+    fn from_raw_height_equals_from_height_units_for_every_sample() {
+        for (mult, top) in [(256u32, 255u32), (257, 255), (1, 65535)] {
+            for raw in 0..=top {
+                let units = raw * mult;
+                assert_eq!(
+                    f32::from_raw_height(raw, mult).to_bits(),
+                    f32::from_height_units(units).to_bits(),
+                    "f32 {raw} {mult}"
+                );
+                assert_eq!(
+                    f64::from_raw_height(raw, mult).to_bits(),
+                    f64::from_height_units(units).to_bits(),
+                    "f64 {raw} {mult}"
+                );
+            }
+        }
+    }
 }

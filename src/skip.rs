@@ -163,9 +163,20 @@ pub struct SkipGrid<'a> {
     sample_bytes: u8,
     block_log2: u8,
     levels: u8,
+    /// [`level_recip`]`(block_log2)`, kept so that the walk does not divide
+    /// per ray.
+    level_recip: u16,
     /// Byte offset of each level's first entry, and its blocks per row.
     offsets: [u32; MAX_LEVELS as usize],
     blocks_u: [u32; MAX_LEVELS as usize],
+}
+
+/// `⌈256 / log2⌉`, for the walk's closed form of "the coarsest level whose
+/// block changed": `(h · level_recip) >> 8 = ⌊h / log2⌋` for every `h < 32`
+/// and `log2` in `1..=8` (unit-checked in `crate::traversal`).
+#[inline]
+pub(crate) fn level_recip(log2: u32) -> u32 {
+    256u32.div_ceil(log2.max(1))
 }
 
 fn div_ceil_shift(n: u32, shift: u32) -> u32 {
@@ -313,6 +324,7 @@ impl<'a> SkipGrid<'a> {
             sample_bytes: sb,
             block_log2: layout.block_log2,
             levels: layout.levels,
+            level_recip: level_recip(layout.block_log2 as u32) as u16,
             offsets,
             blocks_u,
         })
@@ -362,6 +374,7 @@ impl<'a> SkipGrid<'a> {
             sample_bytes: sb,
             block_log2: layout.block_log2,
             levels: layout.levels,
+            level_recip: level_recip(layout.block_log2 as u32) as u16,
             offsets,
             blocks_u,
         })
@@ -490,6 +503,11 @@ impl<'a> SkipGrid<'a> {
 
     pub(crate) fn block_log2(&self) -> u8 {
         self.block_log2
+    }
+
+    /// [`level_recip`] of the block side.
+    pub(crate) fn level_recip(&self) -> u32 {
+        self.level_recip as u32
     }
 }
 

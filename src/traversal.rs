@@ -152,17 +152,10 @@ impl<S: Real> Axis<S> {
     }
 }
 
-/// `⌈256 / log2⌉`, for [`changed_level`]: `(h · it) >> 8 = ⌊h / log2⌋` for
-/// every `h < 32` and `log2` in `1..=8` (unit-checked).
-#[inline]
-fn level_recip(log2: u32) -> u32 {
-    256u32.div_ceil(log2.max(1))
-}
-
 /// The coarsest level, at most `top`, whose block (of `2^(log2·level)`
 /// cells per side, aligned) differs between two cells whose coordinates
 /// differ in the bits `diff`: the level of `diff`'s highest set bit
-/// (0 when `diff` is 0). `recip` is [`level_recip`]`(log2)`.
+/// (0 when `diff` is 0). `recip` is [`crate::skip::level_recip`]`(log2)`.
 #[inline(always)]
 fn changed_level(diff: u32, recip: u32, top: u32) -> u32 {
     let high = 31 - (diff | 1).leading_zeros();
@@ -237,6 +230,8 @@ struct Walk<S> {
     cells_v: i32,
     water: S,
     water_units: u32,
+    /// Height units per raw sample step.
+    mult: u32,
     /// The water level can cull: `false` when both water tests of the culls
     /// (`units < water_units`, `y < water`) are implied by the height tests
     /// (`water_units = 0` and `water ≤ 0`, the height of 0 units).
@@ -345,28 +340,26 @@ impl<S: Real> Walk<S> {
         };
         let t_b = t_exit.max(t_a);
 
-        let raw = field.cell_units(i as u32, j as u32);
-        let c_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
-        let c_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
+        // Raw samples: the extremes are taken before the conversion to
+        // heights (monotone), which then happens twice, not four times.
+        let raw = field.cell_raw(i as u32, j as u32);
+        let mult = self.mult;
+        let r_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
+        let r_min = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
         let y_a = c.y_a;
         let y_b = o[1] + t_b * d[1];
         // `y` is never NaN (finite ray, finite `t`): the ordered pair.
         let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
-        let culled = y_low > S::from_height_units(c_max)
-            || y_high < S::from_height_units(c_min)
-            || (self.wet && (c_max < self.water_units || y_high < self.water));
+        let culled = y_low > S::from_raw_height(r_max, mult)
+            || y_high < S::from_raw_height(r_min, mult)
+            || (self.wet && (r_max * mult < self.water_units || y_high < self.water));
         if !culled {
             let cell = Cell {
                 origin: &self.o,
                 dir: &self.d,
                 cu: S::from_i32(i),
                 cv: S::from_i32(j),
-                corners: Corners {
-                    h00: S::from_height_units(raw[0]),
-                    h10: S::from_height_units(raw[1]),
-                    h01: S::from_height_units(raw[2]),
-                    h11: S::from_height_units(raw[3]),
-                },
+                corners: Corners::from_raw(raw, mult),
                 water: self.water,
             };
             let a = cell.point(t_a, c.entry);
@@ -467,7 +460,7 @@ impl<S: Real> Walk<S> {
         let (o, d) = (self.o, self.d);
         let (su, sv) = (self.au.step, self.av.step);
         let log2 = skip.block_log2() as u32;
-        let mult = field.units_per_sample();
+        let mult = self.mult;
         let mut open = [(u32::MAX, u32::MAX); MAX_LEVELS as usize];
         // Each pass visits a cell (at most cells_u + cells_v + 1 of them),
         // or jumps a block (which also advances at least one cell), or marks
@@ -500,10 +493,9 @@ impl<S: Real> Walk<S> {
                     let y_b = o[1] + t_end * d[1];
                     let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
                     let (lo, hi) = skip.raw_bounds(level, bi, bj);
-                    let (b_min, b_max) = (lo * mult, hi * mult);
-                    let culled = b_max < self.water_units
-                        || y_low > S::from_height_units(b_max)
-                        || y_high < S::from_height_units(b_min)
+                    let culled = hi * mult < self.water_units
+                        || y_low > S::from_raw_height(hi, mult)
+                        || y_high < S::from_raw_height(lo, mult)
                         || y_high < self.water;
                     if culled {
                         if self.t_far <= t_block {
@@ -576,9 +568,9 @@ impl<S: Real> Walk<S> {
         let (off_u, off_v) = (self.au.off, self.av.off);
         let (cells_u, cells_v) = (self.cells_u, self.cells_v);
         let log2 = skip.block_log2() as u32;
-        let recip = level_recip(log2);
+        let recip = skip.level_recip();
         let top = top as u32;
-        let mult = field.units_per_sample();
+        let mult = self.mult;
         let (i0, j0) = (start.i, start.j);
         let mut c = self.cursor(i0, j0, start.t_a, start.entry);
         // The walk is in block `(c.i >> shift, c.j >> shift)` of `level`
@@ -627,8 +619,13 @@ impl<S: Real> Walk<S> {
                 // side of its last column (row), as `au.exit(last column)`
                 // computes it. `(b + 1) << shift` is at most 2^20 + 2^30: no
                 // overflow. (Parallel axis: any line; its exit is "never".)
-                let u_edge = ((bi + off_u) << shift).min(cells_u);
-                let v_edge = ((bj + off_v) << shift).min(cells_v);
+                // Not clamped to the field: past the far edge a line's
+                // parameter is at least the edge's, which is at least `t_far`
+                // (the slab computes it by the same expression), so the cull's
+                // range ends at `t_far` and the walk ends or steps along the
+                // other axis exactly as with the edge itself.
+                let u_edge = (bi + off_u) << shift;
+                let v_edge = (bj + off_v) << shift;
                 let (tu_edge, tv_edge) =
                     (self.au.at_line(u_edge, o[0]), self.av.at_line(v_edge, o[2]));
                 let t_block = tu_edge.min(tv_edge);
@@ -639,13 +636,12 @@ impl<S: Real> Walk<S> {
                 // the ordered pair of the cell cull.
                 let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
                 let (lo, hi) = skip.walk_bounds(level, bi as u32, bj as u32);
-                let (b_min, b_max) = (lo * mult, hi * mult);
-                let culled = y_low > S::from_height_units(b_max)
-                    || y_high < S::from_height_units(b_min)
-                    || (self.wet && (b_max < self.water_units || y_high < self.water));
+                let culled = y_low > S::from_raw_height(hi, mult)
+                    || y_high < S::from_raw_height(lo, mult)
+                    || (self.wet && (hi * mult < self.water_units || y_high < self.water));
                 if !culled {
                     if !exact {
-                        c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, log2);
+                        c = self.locate(side, level, bi, bj, c.i, c.j, i0, j0, c.t_a, c.y_a, log2);
                         exact = true;
                     }
                     level -= 1;
@@ -704,12 +700,13 @@ impl<S: Real> Walk<S> {
         i0: i32,
         j0: i32,
         t_a: S,
+        y_a: S,
         log2: u32,
     ) -> Cursor<S> {
         let (o, d) = (self.o, self.d);
         let (su, sv) = (self.au.step, self.av.step);
         let shift = log2 * level;
-        // First and last cell of the block along the walk, per axis.
+        // First and last cell of the block along the walk, on one axis.
         let span = |b: i32, s: i32, cells: i32| {
             let lo = b << shift;
             let hi = (((b + 1) << shift) - 1).min(cells - 1);
@@ -719,39 +716,57 @@ impl<S: Real> Walk<S> {
                 (lo, hi)
             }
         };
-        let (iu_first, iu_last) = span(bi, su, self.cells_u);
-        let (jv_first, jv_last) = span(bj, sv, self.cells_v);
-        let (i_entered, j_entered) = (i, j);
         // Along the axis the step did not cross: the first line (row or
         // column) from the block's first, never before the start's, whose
-        // exit parameter is past `t_a`; entered at a vertex when the line
-        // before it is left exactly at `t_a`.
-        let other = |axis: &Axis<S>, o: S, d: S, first: i32, last: i32, start: i32| {
+        // exit parameter is past `t_a`, with that parameter; entered at a
+        // vertex when the line before it is left exactly at `t_a`.
+        let other = |axis: &Axis<S>, o: S, d: S, b: i32, cells: i32, start: i32| {
             if axis.step == 0 {
-                return (start, false);
+                return (start, S::MAX, false);
             }
+            let (first, last) = span(b, axis.step, cells);
             let from = if axis.step > 0 {
                 first.max(start)
             } else {
                 first.min(start)
             };
             let guess = (o + t_a * d).floor_i32();
-            let k = first_true(|k| axis.exit(k, o) > t_a, from, last, axis.step, guess);
-            (k, k != start && axis.exit(k - axis.step, o) == t_a)
+            let (k, exit, before) = first_exit_past(axis, o, t_a, from, last, guess);
+            let corner = k != start && before.unwrap_or_else(|| axis.exit(k - axis.step, o)) == t_a;
+            (k, exit, corner)
         };
         let vertex = Place::Vertex(su < 0, sv < 0);
+        // `y_a` is `o_y + t_a·d_y`, the value `cursor` would compute.
         match side {
             Exit::U => {
-                let (j, corner) = other(&self.av, o[2], d[2], jv_first, jv_last, j0);
-                let place = if corner { vertex } else { Place::EdgeU(su < 0) };
-                self.cursor(i_entered, j, t_a, place)
+                let (j, tv, corner) = other(&self.av, o[2], d[2], bj, self.cells_v, j0);
+                let entry = if corner { vertex } else { Place::EdgeU(su < 0) };
+                let tu = self.au.exit(i, o[0]);
+                Cursor {
+                    i,
+                    j,
+                    t_a,
+                    y_a,
+                    tu,
+                    tv,
+                    entry,
+                }
             }
             Exit::V => {
-                let (i, corner) = other(&self.au, o[0], d[0], iu_first, iu_last, i0);
-                let place = if corner { vertex } else { Place::EdgeV(sv < 0) };
-                self.cursor(i, j_entered, t_a, place)
+                let (i, tu, corner) = other(&self.au, o[0], d[0], bi, self.cells_u, i0);
+                let entry = if corner { vertex } else { Place::EdgeV(sv < 0) };
+                let tv = self.av.exit(j, o[2]);
+                Cursor {
+                    i,
+                    j,
+                    t_a,
+                    y_a,
+                    tu,
+                    tv,
+                    entry,
+                }
             }
-            _ => self.cursor(i_entered, j_entered, t_a, vertex),
+            _ => self.cursor(i, j, t_a, vertex),
         }
     }
 
@@ -825,6 +840,47 @@ fn first_true(pred: impl Fn(i32) -> bool, from: i32, to: i32, step: i32, guess: 
         }
     }
     k
+}
+
+/// [`first_true`] for "the exit parameter of line `k` is past `t_a`" along
+/// `axis` (moving), returning also that parameter and, when it was computed
+/// on the way, the exit parameter of the line before (`k − step`): the
+/// values the caller needs next, each computed once.
+#[inline(always)]
+fn first_exit_past<S: Real>(
+    axis: &Axis<S>,
+    o: S,
+    t_a: S,
+    from: i32,
+    last: i32,
+    guess: i32,
+) -> (i32, S, Option<S>) {
+    let step = axis.step;
+    let (lo, hi) = if step > 0 { (from, last) } else { (last, from) };
+    let mut k = guess.clamp(lo, hi);
+    let mut exit = axis.exit(k, o);
+    if exit > t_a {
+        while k != from {
+            let before = axis.exit(k - step, o);
+            if !(before > t_a) {
+                return (k, exit, Some(before));
+            }
+            k -= step;
+            exit = before;
+        }
+        (k, exit, None)
+    } else {
+        let mut before = None;
+        while k != last {
+            before = Some(exit);
+            k += step;
+            exit = axis.exit(k, o);
+            if exit > t_a {
+                break;
+            }
+        }
+        (k, exit, before)
+    }
 }
 
 /// Where the flat walk leaves a block, computed without visiting its cells.
@@ -1073,18 +1129,12 @@ fn starts_above<S: Real>(
     j: i32,
     t_near: S,
 ) -> bool {
-    let raw = field.cell_units(i as u32, j as u32);
     let cell = Cell {
         origin: &walk.o,
         dir: &walk.d,
         cu: S::from_i32(i),
         cv: S::from_i32(j),
-        corners: Corners {
-            h00: S::from_height_units(raw[0]),
-            h10: S::from_height_units(raw[1]),
-            h01: S::from_height_units(raw[2]),
-            h11: S::from_height_units(raw[3]),
-        },
+        corners: Corners::from_raw(field.cell_raw(i as u32, j as u32), walk.mult),
         water: walk.water,
     };
     cell.point(t_near, Place::Interior).g > S::ZERO
@@ -1133,7 +1183,7 @@ fn walk<S: Real>(
     let au = Axis::new(d[0]);
     let ay = Axis::new(d[1]);
     let av = Axis::new(d[2]);
-    let water = S::from_f64(field.water_level() as f64 * S::Y_SCALE);
+    let water = S::from_water_level(field.water_level());
     // The height slab is widened so that the ray enters and leaves it
     // strictly above and below the surface: clipped exactly at a flat
     // field's height, a rounded `y(t)` could land on either side and the
@@ -1171,6 +1221,7 @@ fn walk<S: Real>(
         cells_v,
         water,
         water_units,
+        mult: field.units_per_sample(),
         wet: water_units != 0 || water > S::ZERO,
         v_strict: true,
     };
@@ -1250,7 +1301,8 @@ impl<S: Real> Walk<S> {
 
 #[cfg(test)]
 mod tests {
-    use super::{block_exit, changed_level, level_recip, Exit};
+    use super::{block_exit, changed_level, Exit};
+    use crate::skip::level_recip;
 
     /// `changed_level` against the loop it replaces (ascend while the
     /// next level's block changed), for every layout and cell difference
