@@ -73,6 +73,20 @@ impl core::fmt::Display for CameraError {
     }
 }
 
+/// A camera ray as the renderer traces it ([`Camera::camera_ray`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraRay {
+    /// The ray with a unit direction: shading, depth and analytic shapes
+    /// use it.
+    pub ray: Ray,
+    /// The same line from the same origin, with the camera's unnormalised
+    /// direction: height fields are walked along it.
+    pub walk: Ray,
+    /// `|walk.direction|`: a `t` along `walk` times `length` is the `t`
+    /// along `ray`.
+    pub length: f32,
+}
+
 /// A camera ready to generate rays for one image size.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
@@ -207,6 +221,42 @@ impl Camera {
     #[inline]
     pub fn pixel_ray(&self, px: u32, py: u32) -> Ray {
         self.ray(px as f32 + 0.5, py as f32 + 0.5)
+    }
+
+    /// The renderer's ray through `(x, y)`: [`ray`](Self::ray)'s unit ray,
+    /// and the unnormalised ray along which height fields are walked.
+    ///
+    /// Perspective: `walk` has the direction `D + x0·R + y0·U` itself. Its
+    /// components are affine in the image position, so a level camera's
+    /// (`U` vertical, hence `U`'s horizontal components exactly zero) rays
+    /// of one image column share their `x` and `z` direction bit for bit,
+    /// which column coherence needs
+    /// ([`HeightField::intersect_coherent`](crate::HeightField::intersect_coherent)).
+    /// The unit ray's direction is the same vector scaled by the
+    /// reciprocal of `length`, computed exactly as [`ray`](Self::ray) does.
+    /// Orthographic: both rays are [`ray`](Self::ray)'s, `length` 1.
+    #[inline]
+    pub fn camera_ray(&self, x: f32, y: f32) -> CameraRay {
+        let x0 = x * self.inv_width - 0.5;
+        let y0 = 0.5 - y * self.inv_height;
+        match self.projection {
+            Projection::Perspective => {
+                let d = self.direction + self.right * x0 + self.up * y0;
+                CameraRay {
+                    ray: Ray::new(self.location, d.normalize_or_zero()),
+                    walk: Ray::new(self.location, d),
+                    length: d.length(),
+                }
+            }
+            Projection::Orthographic => {
+                let ray = Ray::new(self.location + self.right * x0 + self.up * y0, self.view);
+                CameraRay {
+                    ray,
+                    walk: ray,
+                    length: 1.0,
+                }
+            }
+        }
     }
 
     /// The projection.
