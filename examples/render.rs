@@ -4,7 +4,17 @@
 //! cargo run --release --example render -- SCENE.pov -o OUT.tga
 //!     [--width W] [--height H] [--aa N] [--threads N] [--rows A..B]
 //!     [--frames N] [--aov depth] [--stats] [--strict] [--quiet]
+//!     [--walk flat|blocks|hierarchy] [--coherence on|off]
 //! ```
+//!
+//! `--walk` chooses how height fields are crossed (default: the skip
+//! pyramid, `hierarchy`) and `--coherence` whether primary rays resume
+//! where the ray below them stopped (default `on`; it pays with a level
+//! camera). Every choice gives the same bytes, only the work differs: see
+//! it with `--stats` (`cells`, `blocks`, `resumed`). With coherence on,
+//! TGA and PFM files are rendered bottom row first (both formats can store
+//! rows that way: TGA with its bottom-left origin, PFM natively); PNG stays
+//! top-down, as it must be written, so its rays do not resume.
 //!
 //! The output type follows the extension: `.tga` (uncompressed 24-bit),
 //! `.png`, or `.pfm` with `--aov depth` (distance to the first hit along the
@@ -36,15 +46,16 @@ use harness::png_out::PngWriter;
 use harness::scene_io::{build_fields, load_fields, parse_file_scene, read_scene_text, FileScene};
 use harness::tga::TgaWriter;
 use hfray::pixel::Rgb888;
-use hfray::render::{render, render_depth, RenderSettings, Stats};
+use hfray::render::{render_coherent, render_depth_coherent, RenderSettings, RowOrder, Stats};
 use hfray::scene::ParseOptions;
-use hfray::HeightField;
+use hfray::{render, render_depth, ColumnHint, HeightField, Traversal};
 
 #[global_allocator]
 static ALLOC: CountingAlloc = CountingAlloc::new();
 
 const USAGE: &str = "usage: render SCENE.pov -o OUT.(tga|png|pfm) [--width W] [--height H] \
-[--aa N] [--threads N] [--rows A..B] [--frames N] [--aov depth] [--stats] [--strict] [--quiet]";
+[--aa N] [--threads N] [--rows A..B] [--frames N] [--aov depth] [--stats] [--strict] [--quiet] \
+[--walk flat|blocks|hierarchy] [--coherence on|off]";
 
 /// Rows a thread renders before handing the band on.
 const BAND_ROWS: u32 = 8;
@@ -63,6 +74,8 @@ struct Options {
     stats: bool,
     strict: bool,
     quiet: bool,
+    walk: Traversal,
+    coherence: bool,
 }
 
 fn parse_number(flag: &str, value: Option<String>, min: u32, max: u32) -> Result<u32, String> {
@@ -110,6 +123,8 @@ fn parse_args() -> Result<Options, String> {
         stats: false,
         strict: false,
         quiet: false,
+        walk: Traversal::Hierarchy,
+        coherence: true,
     };
     // The largest side: a row of 3-byte pixels per thread stays small, and
     // width × height × aa² fits comfortably in u64 counters.
@@ -130,6 +145,31 @@ fn parse_args() -> Result<Options, String> {
                 Some(other) => return Err(format!("--aov: unknown AOV '{other}' (only 'depth')")),
                 None => return Err("--aov needs a value ('depth')".into()),
             },
+            "--walk" => {
+                o.walk = match args.next().as_deref() {
+                    Some("flat") => Traversal::Flat,
+                    Some("blocks") => Traversal::Blocks,
+                    Some("hierarchy") => Traversal::Hierarchy,
+                    other => {
+                        return Err(format!(
+                            "--walk: '{}' is not flat, blocks or hierarchy",
+                            other.unwrap_or("")
+                        ))
+                    }
+                }
+            }
+            "--coherence" => {
+                o.coherence = match args.next().as_deref() {
+                    Some("on") => true,
+                    Some("off") => false,
+                    other => {
+                        return Err(format!(
+                            "--coherence: '{}' is not on or off",
+                            other.unwrap_or("")
+                        ))
+                    }
+                }
+            }
             "--stats" => o.stats = true,
             "--strict" => o.strict = true,
             "--quiet" => o.quiet = true,
@@ -176,6 +216,15 @@ fn extension(p: &Path) -> String {
         .to_ascii_lowercase()
 }
 
+/// The row order `o`'s output is written in: bottom-up where the format
+/// allows it and coherence can use it.
+fn row_order(o: &Options) -> RowOrder {
+    match extension(&o.output).as_str() {
+        "tga" | "pfm" if o.coherence => RowOrder::BottomUp,
+        _ => RowOrder::TopDown,
+    }
+}
+
 type File = std::io::BufWriter<std::fs::File>;
 
 /// The output file, written row by row in order as rows leave the renderer.
@@ -198,12 +247,25 @@ fn io_err(path: &Path, e: std::io::Error) -> String {
 
 impl Sink {
     /// Creates `temp` for the final `path`, typed by `path`'s extension.
-    fn create(path: &Path, temp: &Path, width: u32, height: u32) -> Result<Sink, String> {
+    fn create(
+        path: &Path,
+        temp: &Path,
+        width: u32,
+        height: u32,
+        order: RowOrder,
+    ) -> Result<Sink, String> {
         let err = |e| io_err(path, e);
         let file = std::io::BufWriter::new(std::fs::File::create(temp).map_err(err)?);
+        let bottom_up = order == RowOrder::BottomUp;
         let output = match extension(path).as_str() {
+            "tga" if bottom_up => {
+                Output::Tga(TgaWriter::new_bottom_up(file, width, height).map_err(err)?)
+            }
             "tga" => Output::Tga(TgaWriter::new(file, width, height).map_err(err)?),
             "png" => Output::Png(Box::new(PngWriter::new(file, width, height).map_err(err)?)),
+            _ if bottom_up => {
+                Output::Pfm(PfmWriter::new_bottom_up(file, width, height).map_err(err)?)
+            }
             _ => Output::Pfm(PfmWriter::new(file, width, height).map_err(err)?),
         };
         Ok(Sink {
@@ -286,16 +348,22 @@ fn render_rows(
     sink: &mut Sink,
     progress: &mut Progress,
 ) -> Result<Stats, String> {
-    let base = RenderSettings::new(o.width, o.height).with_aa(o.aa);
+    let order = row_order(o);
+    let base = RenderSettings::new(o.width, o.height)
+        .with_aa(o.aa)
+        .with_order(order);
     let threads = o
         .threads
         .min(rows.len().div_ceil(BAND_ROWS as usize) as u32)
         .max(1);
-    let bands: Vec<Range<u32>> = rows
+    let mut bands: Vec<Range<u32>> = rows
         .clone()
         .step_by(BAND_ROWS as usize)
         .map(|a| a..(a + BAND_ROWS).min(rows.end))
         .collect();
+    if order == RowOrder::BottomUp {
+        bands.reverse();
+    }
     std::thread::scope(|s| {
         // One bounded queue per worker: a worker runs at most one band
         // ahead of the writer, so memory stays at ~2 bands per thread.
@@ -312,20 +380,34 @@ fn render_rows(
                 .collect();
             let base = base.clone();
             let depth = o.depth_aov;
+            let coherence = o.coherence;
             handles.push(s.spawn(move || -> Stats {
                 let mut total = Stats::default();
+                // Kept from band to band: this worker's bands come one above
+                // the other.
+                let mut hints = vec![ColumnHint::new(); base.column_hints_needed(fields.len())];
                 for band in my_bands {
                     let settings = base.clone().with_rows(band);
                     let result = if depth {
                         let mut line = vec![0f32; settings.width as usize];
-                        render_depth(scene, fields, &settings, &mut line, &mut |_, r| {
-                            send(&tx, Row::Depth(r.to_vec()))
-                        })
+                        let mut sink = |_, r: &[f32]| send(&tx, Row::Depth(r.to_vec()));
+                        if coherence {
+                            render_depth_coherent(
+                                scene, fields, &settings, &mut line, &mut hints, &mut sink,
+                            )
+                        } else {
+                            render_depth(scene, fields, &settings, &mut line, &mut sink)
+                        }
                     } else {
                         let mut line = vec![Rgb888::default(); settings.width as usize];
-                        render(scene, fields, &settings, &mut line, &mut |_, r| {
-                            send(&tx, Row::Color(r.to_vec()))
-                        })
+                        let mut sink = |_, r: &[Rgb888]| send(&tx, Row::Color(r.to_vec()));
+                        if coherence {
+                            render_coherent(
+                                scene, fields, &settings, &mut line, &mut hints, &mut sink,
+                            )
+                        } else {
+                            render(scene, fields, &settings, &mut line, &mut sink)
+                        }
                     };
                     match result {
                         Ok(stats) => {
@@ -470,7 +552,10 @@ fn run(o: &Options) -> Result<(), String> {
             }
         }
         let loaded = load_fields(&scene, &o.scene)?;
-        let fields = build_fields(&scene, &loaded)?;
+        let fields: Vec<HeightField<'_>> = build_fields(&scene, &loaded)?
+            .into_iter()
+            .map(|f| f.with_traversal(o.walk))
+            .collect();
         let parse_seconds = parse_start.elapsed().as_secs_f64();
 
         let output = frame_path(&o.output, frame, o.frames);
@@ -478,7 +563,7 @@ fn run(o: &Options) -> Result<(), String> {
         let mut sink = {
             let mut guard = partial();
             *guard = Some(temp.clone());
-            match Sink::create(&output, &temp, o.width, rows.len() as u32) {
+            match Sink::create(&output, &temp, o.width, rows.len() as u32, row_order(o)) {
                 Ok(sink) => sink,
                 Err(e) => {
                     let _ = std::fs::remove_file(&temp);
@@ -511,7 +596,8 @@ fn run(o: &Options) -> Result<(), String> {
         if o.stats {
             eprintln!(
                 "stats: width={} height={} rays={} primary={} shadow={} reflected={} cells={} \
-                 tri_tests={} hits={} parse_seconds={:.6} trace_seconds={:.6} heap_peak_bytes={}",
+                 tri_tests={} hits={} blocks={} resumed={} parse_seconds={:.6} \
+                 trace_seconds={:.6} heap_peak_bytes={}",
                 o.width,
                 rows.len(),
                 stats.rays(),
@@ -521,6 +607,8 @@ fn run(o: &Options) -> Result<(), String> {
                 stats.cells,
                 stats.triangle_tests,
                 stats.hits,
+                stats.blocks,
+                stats.resumed,
                 parse_seconds,
                 trace_seconds,
                 ALLOC.snapshot().peak_bytes
