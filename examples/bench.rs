@@ -707,15 +707,15 @@ fn section_f(runs: usize) {
 }
 
 /// Total instructions (`summary:`) of a callgrind run of `render` on
-/// bench512.pov, or why not.
-fn callgrind_ir(args: &[&str]) -> Result<u64, String> {
+/// `scene`, or why not.
+fn callgrind_ir(scene: &Path, args: &[&str]) -> Result<u64, String> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out_file = root.join("target/bench512/callgrind.out");
     let o = Command::new("valgrind")
         .arg("--tool=callgrind")
         .arg(format!("--callgrind-out-file={}", out_file.display()))
         .arg(root.join("target/release/examples/render"))
-        .arg(root.join("target/bench512/bench512.pov"))
+        .arg(scene)
         .args(args)
         .arg("--quiet")
         .output()
@@ -731,7 +731,9 @@ fn callgrind_ir(args: &[&str]) -> Result<u64, String> {
 }
 
 fn section_g() {
-    println!("\n(g) instructions per ray: callgrind on `render` bench512.pov, (Ir at 320x200 - Ir at 1x1) / rays");
+    println!(
+        "\n(g) instructions per ray: callgrind on `render` at 320x200, (Ir at 320x200 - Ir at 1x1) / rays"
+    );
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     if !root.join("target/bench512/bench512.pgm").exists() {
         println!("  skipped: run section (a) first (it writes target/bench512/)");
@@ -748,49 +750,58 @@ fn section_g() {
     let dir = root.join("target/bench512");
     let (pfm, tga) = (dir.join("g.pfm"), dir.join("g.tga"));
     let (pfm, tga) = (pfm.to_str().unwrap(), tga.to_str().unwrap());
-    let ir = |out: &str, size: (&str, &str), extra: &[&str]| {
-        let mut args = vec!["-o", out, "--width", size.0, "--height", size.1];
-        args.extend_from_slice(extra);
-        callgrind_ir(&args)
-    };
-    let per = |out: &str, extra: &[&str]| -> Result<u64, String> {
-        Ok(ir(out, ("320", "200"), extra)? - ir(out, ("1", "1"), extra)?)
-    };
     let rays = (W * H - 1) as f64;
-    for coherence in ["off", "on"] {
-        match per(pfm, &["--aov", "depth", "--coherence", coherence]) {
-            Ok(d) => println!(
-                "  per primary ray (--aov depth, coherence {coherence:<3}) {:>8.0} instructions",
-                d as f64 / rays
-            ),
-            Err(e) => {
-                println!("  skipped: {e}");
-                return;
-            }
-        }
-    }
-    // The full render (TGA: bottom-up with coherence on) against the depth
-    // pass: what the shadow rays add, per shadow ray.
-    let stats_of = |extra: &[&str]| {
-        let mut cmd = Command::new(root.join("target/release/examples/render"));
-        cmd.arg(dir.join("bench512.pov"))
-            .args(["-o", tga, "--width", "320", "--height", "200", "--stats"])
-            .args(extra);
-        let o = cmd.output().ok()?;
-        let err = String::from_utf8_lossy(&o.stderr).into_owned();
-        peer_value(err.lines().find(|l| l.starts_with("stats:"))?, "shadow")
-    };
-    for coherence in ["off", "on"] {
-        let full = per(tga, &["--coherence", coherence]);
-        let depth = per(pfm, &["--aov", "depth", "--coherence", coherence]);
-        let shadows = stats_of(&["--coherence", coherence]);
-        if let (Ok(full), Ok(depth), Some(shadows)) = (full, depth, shadows) {
-            println!(
-                "  full render (coherence {coherence:<3})              {:>8.0} instructions per ray ({} shadow rays: {:.0} each)",
-                full as f64 / (rays + shadows),
-                shadows,
-                (full as f64 - depth as f64) / shadows
+    for (name, scene) in [
+        ("bench512.pov (pitched)", dir.join("bench512.pov")),
+        (
+            "level_rmnp.pov (level)",
+            root.join("examples/scenes/level_rmnp.pov"),
+        ),
+    ] {
+        println!("  {name}:");
+        let ir = |out: &str, size: (&str, &str), extra: &[&str]| {
+            let mut args = vec!["-o", out, "--width", size.0, "--height", size.1];
+            args.extend_from_slice(extra);
+            callgrind_ir(&scene, &args)
+        };
+        let per = |out: &str, extra: &[&str]| -> Result<u64, String> {
+            Ok(ir(out, ("320", "200"), extra)? - ir(out, ("1", "1"), extra)?)
+        };
+        // Shadow rays of the full render, from its --stats line.
+        let shadows_of = |extra: &[&str]| {
+            let o = Command::new(root.join("target/release/examples/render"))
+                .arg(&scene)
+                .args(["-o", tga, "--width", "320", "--height", "200", "--stats"])
+                .args(extra)
+                .output()
+                .ok()?;
+            let err = String::from_utf8_lossy(&o.stderr).into_owned();
+            peer_value(err.lines().find(|l| l.starts_with("stats:"))?, "shadow")
+        };
+        for coherence in ["off", "on"] {
+            let c = ["--coherence", coherence];
+            let depth = match per(pfm, &["--aov", "depth", c[0], c[1]]) {
+                Ok(d) => d,
+                Err(e) => {
+                    println!("    skipped: {e}");
+                    return;
+                }
+            };
+            print!(
+                "    coherence {coherence:<3}: {:>6.0} instructions per primary ray (--aov depth)",
+                depth as f64 / rays
             );
+            // The full render (TGA: bottom-up with coherence on) against
+            // the depth pass: what shadow rays and shading add.
+            match (per(tga, &c), shadows_of(&c)) {
+                (Ok(full), Some(shadows)) => println!(
+                    "; full render {:>6.0} per ray ({} shadow rays, {:.0} instructions each incl. shading)",
+                    full as f64 / (rays + shadows),
+                    shadows,
+                    (full as f64 - depth as f64) / shadows
+                ),
+                _ => println!(),
+            }
         }
     }
 }

@@ -259,6 +259,14 @@ impl Camera {
         }
     }
 
+    /// `true` if the rays of each image column share their horizontal
+    /// origin and walk-direction components bit for bit (`U` has no
+    /// horizontal component: a level perspective or orthographic camera),
+    /// the camera half of what column coherence needs.
+    pub fn level_columns(&self) -> bool {
+        self.up.x == 0.0 && self.up.z == 0.0
+    }
+
     /// The projection.
     pub fn projection(&self) -> Projection {
         self.projection

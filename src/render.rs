@@ -39,8 +39,8 @@
 //! it stopped. The images are byte for byte those of [`render`] and
 //! [`render_depth`] (`tests/coherence.rs`), whatever the camera or order;
 //! only the work differs (`Stats::resumed` counts the rays that resumed).
-//! Any other camera, or top-down rows, just costs each ray a few
-//! comparisons. A pitched camera's column rays do not share their
+//! With any other camera, or top-down rows, the hints are left alone and
+//! the render costs what [`render`] costs. A pitched camera's column rays do not share their
 //! horizontal direction, so they are not resumed: see
 //! `docs/coherence.md` for why and what an exact scheme for them needs.
 
@@ -421,6 +421,14 @@ fn sample_hints<'h>(
         .map(|h| &mut h[column * fields..(column + 1) * fields])
 }
 
+/// Whether a coherent render's rays can resume at all: a level camera
+/// (`Camera::level_columns`) traced bottom-up. Otherwise the hints are not
+/// consulted, which saves each ray the hint's checks (and the render is the
+/// same either way).
+fn coherence_can_resume(camera: &Camera, settings: &RenderSettings) -> bool {
+    camera.level_columns() && settings.order == RowOrder::BottomUp
+}
+
 fn check_hints(
     settings: &RenderSettings,
     fields: usize,
@@ -470,13 +478,14 @@ fn render_with<const O: usize, const L: usize, P: Pixel>(
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [P],
-    mut hints: Option<&mut [ColumnHint]>,
+    hints: Option<&mut [ColumnHint]>,
     sink: &mut impl FnMut(u32, &[P]) -> ControlFlow<()>,
 ) -> Result<Stats, RenderError> {
     check(settings, line.len())?;
     check_hints(settings, fields.len(), &hints)?;
     let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
     let tracer = Tracer::new(scene, fields)?;
+    let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     let n = settings.aa;
     let step = 1.0 / n as f32;
     let norm = 1.0 / (n * n) as f32;
@@ -526,13 +535,14 @@ fn render_depth_with<const O: usize, const L: usize>(
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [f32],
-    mut hints: Option<&mut [ColumnHint]>,
+    hints: Option<&mut [ColumnHint]>,
     sink: &mut impl FnMut(u32, &[f32]) -> ControlFlow<()>,
 ) -> Result<Stats, RenderError> {
     check(settings, line.len())?;
     check_hints(settings, fields.len(), &hints)?;
     let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
     let tracer = Tracer::new(scene, fields)?;
+    let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     Ok(drive(settings, line, sink, |x, y, stats| {
         let h = sample_hints(&mut hints, fields.len(), settings, x, 0, 0);
         let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
