@@ -36,6 +36,11 @@
 //!     render: (Ir_full − Ir_depth) / shadow rays = per shadow ray
 //!     (shadow walk plus the shading of the hit it serves).
 //!
+//! (h) the level view (examples/scenes/level_rmnp.pov: the camera at terrain
+//!     height looking horizontally across the RMNP DEM, 640×400, shadows):
+//!     full render, coherent (bottom-up) and plain, vs `povray +WT1 -A`
+//!     Trace Time, interleaved.
+//!
 //! Section letters as a second argument run only those sections:
 //! `cargo run --release --example bench -- 5 af`.
 //!
@@ -60,7 +65,7 @@ use bench_common::{fractal, median, median_secs, repetitions, sample_secs, PovCa
 use harness::scene_io::{build_fields, load_fields, parse_file_scene};
 use hfray::glam::{DVec3, Vec3};
 use hfray::pixel::Rgb888;
-use hfray::render::{render, RenderSettings};
+use hfray::render::{render, render_coherent, RenderSettings, RowOrder, Stats};
 use hfray::scene::ParseOptions;
 use hfray::{
     ColumnHint, Counters, HeightConvention, HeightField, Numeric, Ray, Samples, SkipGrid,
@@ -136,19 +141,19 @@ fn write_pgm(path: &Path, n: u32, data: &[u8]) {
 /// One POV-Ray single-thread render of bench512.pov: its Trace Time
 /// (wall s, CPU s); `None` without povray.
 fn povray_trace(dir: &Path) -> Option<(f64, f64)> {
+    povray_trace_of(
+        dir,
+        &["+Ibench512.pov", "+W320", "+H200", "+Obench512-pov.png"],
+    )
+}
+
+/// One POV-Ray single-thread render (`+WT1 -A -D`, PNG, gamma 1) in `dir`
+/// with `args` (scene, size, output): its Trace Time (wall s, CPU s).
+fn povray_trace_of(dir: &Path, args: &[&str]) -> Option<(f64, f64)> {
     let out = Command::new("povray")
         .current_dir(dir)
-        .args([
-            "+Ibench512.pov",
-            "+W320",
-            "+H200",
-            "-A",
-            "+WT1",
-            "-D",
-            "+FN",
-            "+Obench512-pov.png",
-            "File_Gamma=1.0",
-        ])
+        .args(args)
+        .args(["-A", "+WT1", "-D", "+FN", "File_Gamma=1.0"])
         .output()
         .ok()?;
     let err = String::from_utf8_lossy(&out.stderr);
@@ -806,6 +811,111 @@ fn section_g() {
     }
 }
 
+fn section_h(runs: usize) {
+    const LW: u32 = 640;
+    const LH: u32 = 400;
+    println!("\n(h) level view: level_rmnp.pov, {LW}x{LH}, 1 light, shadows, no AA: full render");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene_path = root.join("examples/scenes/level_rmnp.pov");
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    let options = ParseOptions {
+        image_width: LW,
+        image_height: LH,
+        ..ParseOptions::default()
+    };
+    let scene = parse_file_scene(&scene_path, &text, &options, &mut |w| eprintln!("{w}")).unwrap();
+    let loaded = load_fields(&scene, &scene_path).unwrap();
+    let fields = build_fields(&scene, &loaded).unwrap();
+    let plain_settings = RenderSettings::new(LW, LH);
+    let coherent_settings = plain_settings.clone().with_order(RowOrder::BottomUp);
+    let mut hints = vec![ColumnHint::new(); coherent_settings.column_hints_needed(fields.len())];
+    let (mut line, mut line2) = (
+        vec![Rgb888::default(); LW as usize],
+        vec![Rgb888::default(); LW as usize],
+    );
+    let (mut stats_plain, mut stats_coherent) = (Stats::default(), Stats::default());
+    let mut plain = || {
+        stats_plain = render(&scene, &fields, &plain_settings, &mut line, &mut |_, _| {
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    };
+    let mut coherent = || {
+        hints.fill(ColumnHint::new());
+        stats_coherent = render_coherent(
+            &scene,
+            &fields,
+            &coherent_settings,
+            &mut line2,
+            &mut hints,
+            &mut |_, _| ControlFlow::Continue(()),
+        )
+        .unwrap();
+    };
+    let (rp, rc) = (repetitions(&mut plain), repetitions(&mut coherent));
+    let dir = root.join("examples/scenes");
+    let out = root.join("target/level-pov.png");
+    let pov_args = [
+        "+Ilevel_rmnp.pov".to_string(),
+        format!("+W{LW}"),
+        format!("+H{LH}"),
+        format!("+O{}", out.display()),
+    ];
+    let pov_args: Vec<&str> = pov_args.iter().map(|s| s.as_str()).collect();
+    let have_povray = povray_trace_of(&dir, &pov_args).is_some();
+    let (mut tp, mut tc, mut pov_wall, mut pov_cpu) = (vec![], vec![], vec![], vec![]);
+    let (mut ratio_c, mut ratio_p, mut ratio_cpu) = (vec![], vec![], vec![]);
+    for _ in 0..runs {
+        let p = sample_secs(rp, &mut plain);
+        let c = sample_secs(rc, &mut coherent);
+        tp.push(p);
+        tc.push(c);
+        if have_povray {
+            if let Some((wall, cpu)) = povray_trace_of(&dir, &pov_args) {
+                pov_wall.push(wall);
+                pov_cpu.push(cpu);
+                ratio_c.push(c / wall);
+                ratio_p.push(p / wall);
+                ratio_cpu.push(c / cpu);
+            }
+        }
+    }
+    let (sp, sc) = (stats_plain, stats_coherent);
+    println!(
+        "  {:<40} {:>8.4} s  ({} rays: {} primary, {} shadow)",
+        "hfray plain (top-down)",
+        median(&mut tp),
+        sp.rays(),
+        sp.primary_rays,
+        sp.shadow_rays
+    );
+    println!(
+        "  {:<40} {:>8.4} s  ({} of {} primary rays resumed; {:.1} vs {:.1} cells/ray)",
+        "hfray coherent (bottom-up)",
+        median(&mut tc),
+        sc.resumed,
+        sc.primary_rays,
+        sc.cells as f64 / sc.rays() as f64,
+        sp.cells as f64 / sp.rays() as f64
+    );
+    if pov_wall.is_empty() {
+        println!("  POV-Ray not found (apt-get install povray): comparison skipped");
+        return;
+    }
+    println!(
+        "  {:<40} {:>8.4} s  (Trace Time wall; {:.3} CPU-seconds)",
+        "POV-Ray 3.7 +WT1 -A",
+        median(&mut pov_wall),
+        median(&mut pov_cpu)
+    );
+    println!(
+        "  hfray coherent / POV-Ray trace time = {:.3} (vs its CPU-seconds {:.3}); plain / POV-Ray = {:.3} (medians of per-run ratios; target <= 0.15)",
+        median(&mut ratio_c),
+        median(&mut ratio_cpu),
+        median(&mut ratio_p)
+    );
+}
+
 fn main() {
     let runs: usize = std::env::args()
         .nth(1)
@@ -850,5 +960,8 @@ fn main() {
     }
     if only.is_empty() || only.contains('g') {
         section_g();
+    }
+    if only.is_empty() || only.contains('h') {
+        section_h(runs);
     }
 }

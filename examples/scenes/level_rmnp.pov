@@ -25,8 +25,8 @@ background { color rgb <0.55, 0.7, 0.9> }
 
 height_field {
   gif "../data/rmnp_co_152x187.gif"
-  image_map
   smooth
+  pigment { color rgb <0.55, 0.5, 0.4> }
   scale <1, 0.11, 1.23>
   finish { ambient 0.25 diffuse 0.8 }
 }
