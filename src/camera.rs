@@ -428,6 +428,34 @@ mod tests {
     }
 
     #[test]
+    fn camera_ray_is_ray_plus_its_unnormalised_walk_ray() {
+        let level = CameraDesc {
+            location: Vec3::new(0.3, 0.2, -1.0),
+            look_at: Vec3::new(0.6, 0.2, 0.5),
+            angle: Some(50.0),
+            ..CameraDesc::default()
+        };
+        let pitched = CameraDesc {
+            look_at: Vec3::new(0.6, -0.4, 0.5),
+            ..level
+        };
+        for (desc, is_level) in [(level, true), (pitched, false)] {
+            let c = Camera::new(&desc, 16, 10).unwrap();
+            assert_eq!(c.level_columns(), is_level);
+            for (x, y) in [(0.5, 0.5), (7.25, 3.0), (15.5, 9.5)] {
+                let cr = c.camera_ray(x, y);
+                assert_eq!(cr.ray, c.ray(x, y));
+                assert_eq!(cr.walk.origin, cr.ray.origin);
+                assert!(close(cr.walk.direction / cr.length, cr.ray.direction));
+                // A level camera's column shares the walk direction's x, z.
+                let below = c.camera_ray(x, y + 1.0).walk.direction;
+                let same_xz = below.x == cr.walk.direction.x && below.z == cr.walk.direction.z;
+                assert_eq!(same_xz, is_level, "{desc:?}");
+            }
+        }
+    }
+
+    #[test]
     fn orthographic_rays_are_parallel_and_offset() {
         let desc = CameraDesc {
             projection: Projection::Orthographic,
