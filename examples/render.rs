@@ -10,11 +10,12 @@
 //! `--walk` chooses how height fields are crossed (default: the skip
 //! pyramid, `hierarchy`) and `--coherence` whether primary rays resume
 //! where the ray below them stopped (default `on`; it pays with a level
-//! camera). Every choice gives the same bytes, only the work differs: see
-//! it with `--stats` (`cells`, `blocks`, `resumed`). With coherence on,
-//! TGA and PFM files are rendered bottom row first (both formats can store
-//! rows that way: TGA with its bottom-left origin, PFM natively); PNG stays
-//! top-down, as it must be written, so its rays do not resume.
+//! camera). Every choice gives the same image, only the work differs: see
+//! it with `--stats` (`cells`, `blocks`, `resumed`). With coherence on and
+//! a level camera (`up` vertical), TGA and PFM files are rendered bottom
+//! row first (TGA then has its bottom-left origin; PFM stores rows that way
+//! anyway); PNG stays top-down, as it must be written, so its rays do not
+//! resume. Other cameras render top-down, as without coherence.
 //!
 //! The output type follows the extension: `.tga` (uncompressed 24-bit),
 //! `.png`, or `.pfm` with `--aov depth` (distance to the first hit along the
@@ -48,7 +49,7 @@ use harness::tga::TgaWriter;
 use hfray::pixel::Rgb888;
 use hfray::render::{render_coherent, render_depth_coherent, RenderSettings, RowOrder, Stats};
 use hfray::scene::ParseOptions;
-use hfray::{render, render_depth, ColumnHint, HeightField, Traversal};
+use hfray::{render, render_depth, Camera, ColumnHint, HeightField, Traversal};
 
 #[global_allocator]
 static ALLOC: CountingAlloc = CountingAlloc::new();
@@ -217,10 +218,11 @@ fn extension(p: &Path) -> String {
 }
 
 /// The row order `o`'s output is written in: bottom-up where the format
-/// allows it and coherence can use it.
-fn row_order(o: &Options) -> RowOrder {
+/// allows it and coherence can use it (a level camera), else top-down.
+fn row_order(o: &Options, scene: &FileScene<'_>) -> RowOrder {
+    let level = Camera::new(&scene.camera, o.width, o.height).is_ok_and(|c| c.level_columns());
     match extension(&o.output).as_str() {
-        "tga" | "pfm" if o.coherence => RowOrder::BottomUp,
+        "tga" | "pfm" if o.coherence && level => RowOrder::BottomUp,
         _ => RowOrder::TopDown,
     }
 }
@@ -348,7 +350,7 @@ fn render_rows(
     sink: &mut Sink,
     progress: &mut Progress,
 ) -> Result<Stats, String> {
-    let order = row_order(o);
+    let order = row_order(o, scene);
     let base = RenderSettings::new(o.width, o.height)
         .with_aa(o.aa)
         .with_order(order);
@@ -563,7 +565,13 @@ fn run(o: &Options) -> Result<(), String> {
         let mut sink = {
             let mut guard = partial();
             *guard = Some(temp.clone());
-            match Sink::create(&output, &temp, o.width, rows.len() as u32, row_order(o)) {
+            match Sink::create(
+                &output,
+                &temp,
+                o.width,
+                rows.len() as u32,
+                row_order(o, &scene),
+            ) {
                 Ok(sink) => sink,
                 Err(e) => {
                     let _ = std::fs::remove_file(&temp);
