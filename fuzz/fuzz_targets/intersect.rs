@@ -28,8 +28,8 @@ use arbitrary::Arbitrary;
 use hfray::glam::{DAffine3, DVec3, Vec3};
 use hfray::scene::CameraDesc;
 use hfray::{
-    Camera, ColumnHint, Counters, HeightConvention, HeightField, Ray, Samples, SkipGrid,
-    SkipLayout, Transform, Traversal,
+    Camera, ColumnHint, Counters, HeightConvention, HeightField, Ray, Samples, SkipGrid, SkipLayout,
+    Transform, Traversal,
 };
 use libfuzzer_sys::fuzz_target;
 
@@ -209,12 +209,8 @@ fn heights(pattern: &Pattern, w: usize, d: usize, max: u32) -> Vec<u32> {
                 }
             })
             .collect(),
-        Pattern::RampX => (0..n)
-            .map(|i| ((i % w) as u32 * max) / (w as u32 - 1))
-            .collect(),
-        Pattern::RampZ => (0..n)
-            .map(|i| ((i / w) as u32 * max) / (d as u32 - 1))
-            .collect(),
+        Pattern::RampX => (0..n).map(|i| ((i % w) as u32 * max) / (w as u32 - 1)).collect(),
+        Pattern::RampZ => (0..n).map(|i| ((i / w) as u32 * max) / (d as u32 - 1)).collect(),
         Pattern::Spikes(h, every) => {
             let every = usize::from(*every).max(1);
             (0..n)
@@ -267,11 +263,7 @@ fuzz_target!(|input: Input| {
     if let Some(seed) = input.palette {
         palette = core::array::from_fn(|i| {
             let k = i * 3;
-            [
-                seed[k % 8],
-                seed[(k + 1) % 8].wrapping_add(i as u8),
-                seed[(k + 2) % 8],
-            ]
+            [seed[k % 8], seed[(k + 1) % 8].wrapping_add(i as u8), seed[(k + 2) % 8]]
         });
         field = field.with_palette(&palette);
     }
@@ -298,8 +290,7 @@ fuzz_target!(|input: Input| {
     let bounds_ok = lo.is_finite() && hi.is_finite();
     let grid = DAffine3::from_scale(DVec3::new((w - 1) as f64, 1.0, (d - 1) as f64));
     let cond = condition(&(grid * *transform.to_object()));
-    let extent =
-        (hi.as_dvec3() - lo.as_dvec3()).length() + hi.abs().max(lo.abs()).as_dvec3().length();
+    let extent = (hi.as_dvec3() - lo.as_dvec3()).length() + hi.abs().max(lo.abs()).as_dvec3().length();
 
     // A skip pyramid (fan-out 2, 4 or 8) for the hierarchical walk.
     let layout = SkipLayout::pyramid(w, d, 1 + input.width % 3);
@@ -323,11 +314,7 @@ fuzz_target!(|input: Input| {
                 Vec3::new(d[0].get(), d[1].get(), d[2].get()),
             ),
             RayIn::Aimed { from, to, zero } => {
-                let from = DVec3::new(
-                    from[0].get() as f64,
-                    from[1].get() as f64,
-                    from[2].get() as f64,
-                );
+                let from = DVec3::new(from[0].get() as f64, from[1].get() as f64, from[2].get() as f64);
                 let to = DVec3::new(
                     to[0] as f64 / 65535.0,
                     -0.1 + 1.2 * to[1] as f64 / 65535.0,
@@ -384,24 +371,11 @@ fuzz_target!(|input: Input| {
         );
         if let Some(h) = hit {
             assert!(h.t.is_finite(), "t = {}", h.t);
-            assert!(
-                h.t >= t_min && h.t <= t_max,
-                "t = {} outside [{t_min}, {t_max}]",
-                h.t
-            );
+            assert!(h.t >= t_min && h.t <= t_max, "t = {} outside [{t_min}, {t_max}]", h.t);
             assert!(h.point.is_finite(), "point {:?}", h.point);
-            assert!(
-                h.object_point.is_finite(),
-                "object point {:?}",
-                h.object_point
-            );
+            assert!(h.object_point.is_finite(), "object point {:?}", h.object_point);
             assert!(h.normal.is_finite(), "normal {:?}", h.normal);
-            assert!(
-                h.cell_x < w - 1 && h.cell_z < d - 1,
-                "cell {} {}",
-                h.cell_x,
-                h.cell_z
-            );
+            assert!(h.cell_x < w - 1 && h.cell_z < d - 1, "cell {} {}", h.cell_x, h.cell_z);
             assert!((0.0..=1.0).contains(&h.local.0) && (0.0..=1.0).contains(&h.local.1));
             let op = h.object_point;
             let e = 1e-3;
@@ -413,11 +387,7 @@ fuzz_target!(|input: Input| {
             assert!(field.smooth_normal(&h).is_finite());
             if valid {
                 let len = h.normal.length();
-                assert!(
-                    (len - 1.0).abs() < 1e-3,
-                    "normal {:?} of length {len}",
-                    h.normal
-                );
+                assert!((len - 1.0).abs() < 1e-3, "normal {:?} of length {len}", h.normal);
             }
             if let Some(c) = field.triangle_palette_color(h.cell_x, h.cell_z, h.triangle) {
                 assert!(c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0);
@@ -426,7 +396,9 @@ fuzz_target!(|input: Input| {
                 let tol = 64.0
                     * f32::EPSILON as f64
                     * cond.max(1.0)
-                    * (o.as_dvec3().length() + dir.as_dvec3().length() * h.t.abs() as f64 + extent);
+                    * (o.as_dvec3().length()
+                        + dir.as_dvec3().length() * h.t.abs() as f64
+                        + extent);
                 let tol = tol as f32;
                 let p = h.point;
                 assert!(
@@ -437,10 +409,7 @@ fuzz_target!(|input: Input| {
         }
         // Every mode, and column coherence, give the flat walk's answer.
         let flat_hit = flat.intersect(&ray, t_min, t_max);
-        assert!(
-            same(&flat_hit, &hier.intersect(&ray, t_min, t_max)),
-            "hierarchy differs from flat"
-        );
+        assert!(same(&flat_hit, &hier.intersect(&ray, t_min, t_max)), "hierarchy differs from flat");
         let mut hint = ColumnHint::new();
         let mut cc = Counters::default();
         let lift = dir.y.abs().max(0.25);
@@ -455,26 +424,17 @@ fuzz_target!(|input: Input| {
         // The renderer's walk rays (`Camera::camera_ray`) of a level
         // camera at the ray's origin looking along its horizontal
         // direction: one image column, bottom-up, coherent = flat.
-        let look = Vec3::new(dir.x, 0.0, dir.z);
-        if let Ok(camera) = Camera::new(
-            &CameraDesc {
-                location: o,
-                look_at: o + look,
-                angle: Some(30.0 + (t_min.abs() % 1.0) * 120.0),
-                ..CameraDesc::default()
-            },
-            7,
-            9,
-        ) {
+        let look_at = o + Vec3::new(dir.x, 0.0, dir.z);
+        let angle = Some(30.0 + (t_min.abs() % 1.0) * 120.0);
+        let desc = CameraDesc { location: o, look_at, angle, ..CameraDesc::default() };
+        if let Ok(camera) = Camera::new(&desc, 7, 9) {
             let mut hint = ColumnHint::new();
             let x = 0.5 + (dir.y.abs() % 1.0) * 6.0;
             for py in (0..9).rev() {
                 let r = camera.camera_ray(x, py as f32 + 0.5).walk;
                 let coherent = hier.intersect_coherent(&r, 0.0, f32::INFINITY, &mut hint, &mut cc);
-                assert!(
-                    same(&coherent, &flat.intersect(&r, 0.0, f32::INFINITY)),
-                    "coherent camera column differs from flat"
-                );
+                let plain = flat.intersect(&r, 0.0, f32::INFINITY);
+                assert!(same(&coherent, &plain), "coherent camera column differs from flat");
             }
         }
         // The f64 path on the same ray.
@@ -486,11 +446,7 @@ fuzz_target!(|input: Input| {
             t_max as f64,
             &mut c64,
         );
-        assert!(
-            c64.cells <= u64::from(w + d),
-            "f64 walked {} cells",
-            c64.cells
-        );
+        assert!(c64.cells <= u64::from(w + d), "f64 walked {} cells", c64.cells);
         if let Some(h) = h64 {
             assert!(h.t.is_finite() && h.t >= t_min as f64 && h.t <= t_max as f64);
             assert!(h.cell_x < w - 1 && h.cell_z < d - 1);

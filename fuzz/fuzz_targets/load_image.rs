@@ -36,13 +36,9 @@ fuzz_target!(|data: &[u8]| {
             assert!(w <= images::MAX_SIDE && d <= images::MAX_SIDE);
             assert!(w * d <= images::MAX_SAMPLES);
             assert_eq!(field.sample_data().len() as u64, w * d);
-            let core = field
-                .height_field()
-                .expect("the core accepts a decoded field");
+            let core = field.height_field().expect("the core accepts a decoded field");
             assert_eq!((u64::from(core.width()), u64::from(core.depth())), (w, d));
-            let _ = field
-                .sample(field.width() - 1, field.depth() - 1)
-                .expect("last sample");
+            let _ = field.sample(field.width() - 1, field.depth() - 1).expect("last sample");
         }
         Err(message) => assert!(!message.is_empty()),
     }

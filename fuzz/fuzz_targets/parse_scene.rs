@@ -15,12 +15,7 @@ fn check<const O: usize, const L: usize>(src: &str, strict: bool) {
     };
     let lines = src.split('\n').count() as u32;
     let check_diag = |d: &Diagnostic<'_>| {
-        assert!(
-            d.line >= 1 && d.col >= 1,
-            "bad position {}:{}",
-            d.line,
-            d.col
-        );
+        assert!(d.line >= 1 && d.col >= 1, "bad position {}:{}", d.line, d.col);
         assert!(d.line <= lines + 1, "line {} past {lines}", d.line);
         // Display must not panic either.
         let _ = d.to_string();

@@ -70,21 +70,11 @@ fuzz_target!(|data: &[u8]| {
     // The coherent renderer, bottom-up, gives the same bits.
     let bottom_up = settings.clone().with_order(RowOrder::BottomUp);
     let mut hints = vec![ColumnHint::new(); bottom_up.column_hints_needed(fields.len())];
-    let coherent = render_coherent(
-        &scene,
-        &fields,
-        &bottom_up,
-        &mut line,
-        &mut hints,
-        &mut |y, row| {
-            assert_eq!(
-                image[y as usize],
-                bits(row.iter().map(|p| p.0)),
-                "coherent row {y} differs"
-            );
-            ControlFlow::Continue(())
-        },
-    );
+    let mut sink = |y: u32, row: &[LinearRgb]| {
+        assert_eq!(image[y as usize], bits(row.iter().map(|p| p.0)), "coherent row {y} differs");
+        ControlFlow::Continue(())
+    };
+    let coherent = render_coherent(&scene, &fields, &bottom_up, &mut line, &mut hints, &mut sink);
     assert_eq!(coherent.is_ok(), result.is_ok());
     if let Ok(stats) = result {
         assert_eq!(stats.rows, height);
@@ -95,36 +85,25 @@ fuzz_target!(|data: &[u8]| {
     let mut depth_line = vec![0f32; width as usize];
     let mut rows = 0u32;
     let mut depths = Vec::new();
-    let result = render_depth(
-        &scene,
-        &fields,
-        &settings,
-        &mut depth_line,
-        &mut |_, row| {
-            rows += 1;
-            for &d in row {
-                assert!(d >= 0.0, "depth {d}"); // NaN fails too
-            }
-            depths.push(row.iter().map(|d| d.to_bits()).collect::<Vec<_>>());
-            ControlFlow::Continue(())
-        },
-    );
+    let result = render_depth(&scene, &fields, &settings, &mut depth_line, &mut |_, row| {
+        rows += 1;
+        for &d in row {
+            assert!(d >= 0.0, "depth {d}"); // NaN fails too
+        }
+        depths.push(row.iter().map(|d| d.to_bits()).collect::<Vec<_>>());
+        ControlFlow::Continue(())
+    });
     if result.is_ok() {
         assert_eq!(rows, height);
     }
     hints.fill(ColumnHint::new());
-    let coherent = render_depth_coherent(
-        &scene,
-        &fields,
-        &bottom_up,
-        &mut depth_line,
-        &mut hints,
-        &mut |y, row| {
-            let row: Vec<u32> = row.iter().map(|d| d.to_bits()).collect();
-            assert_eq!(depths[y as usize], row, "coherent depth row {y} differs");
-            ControlFlow::Continue(())
-        },
-    );
+    let mut sink = |y: u32, row: &[f32]| {
+        let row: Vec<u32> = row.iter().map(|d| d.to_bits()).collect();
+        assert_eq!(depths[y as usize], row, "coherent depth row {y} differs");
+        ControlFlow::Continue(())
+    };
+    let coherent =
+        render_depth_coherent(&scene, &fields, &bottom_up, &mut depth_line, &mut hints, &mut sink);
     assert_eq!(coherent.is_ok(), result.is_ok());
 });
 
