@@ -334,6 +334,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// coherence requires), their `t` carried to `cam.ray`'s; then the other
     /// objects along `cam.ray` up to the nearest field hit. The answer does
     /// not depend on `hints` (see [`HeightField::intersect_coherent`]).
+    // Without `primitives`, every object is a height field.
+    #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
     fn nearest_camera_local(
         &self,
         cam: &CameraRay,
