@@ -204,13 +204,25 @@ impl Camera {
     /// direction is unit length, so ray parameters are distances.
     #[inline]
     pub fn ray(&self, x: f32, y: f32) -> Ray {
+        let walk = self.walk_ray(x, y);
+        match self.projection {
+            Projection::Perspective => Ray::new(walk.origin, walk.direction.normalize_or_zero()),
+            Projection::Orthographic => walk,
+        }
+    }
+
+    /// The ray through `(x, y)` before normalisation: direction
+    /// `D + x0·R + y0·U` (perspective), or the unit view direction from the
+    /// point `location + x0·R + y0·U` (orthographic).
+    #[inline]
+    fn walk_ray(&self, x: f32, y: f32) -> Ray {
         let x0 = x * self.inv_width - 0.5;
         let y0 = 0.5 - y * self.inv_height;
         match self.projection {
-            Projection::Perspective => {
-                let d = self.direction + self.right * x0 + self.up * y0;
-                Ray::new(self.location, d.normalize_or_zero())
-            }
+            Projection::Perspective => Ray::new(
+                self.location,
+                self.direction + self.right * x0 + self.up * y0,
+            ),
             Projection::Orthographic => {
                 Ray::new(self.location + self.right * x0 + self.up * y0, self.view)
             }
@@ -237,25 +249,18 @@ impl Camera {
     /// Orthographic: both rays are [`ray`](Self::ray)'s, `length` 1.
     #[inline]
     pub fn camera_ray(&self, x: f32, y: f32) -> CameraRay {
-        let x0 = x * self.inv_width - 0.5;
-        let y0 = 0.5 - y * self.inv_height;
+        let walk = self.walk_ray(x, y);
         match self.projection {
-            Projection::Perspective => {
-                let d = self.direction + self.right * x0 + self.up * y0;
-                CameraRay {
-                    ray: Ray::new(self.location, d.normalize_or_zero()),
-                    walk: Ray::new(self.location, d),
-                    length: d.length(),
-                }
-            }
-            Projection::Orthographic => {
-                let ray = Ray::new(self.location + self.right * x0 + self.up * y0, self.view);
-                CameraRay {
-                    ray,
-                    walk: ray,
-                    length: 1.0,
-                }
-            }
+            Projection::Perspective => CameraRay {
+                ray: Ray::new(walk.origin, walk.direction.normalize_or_zero()),
+                walk,
+                length: walk.direction.length(),
+            },
+            Projection::Orthographic => CameraRay {
+                ray: walk,
+                walk,
+                length: 1.0,
+            },
         }
     }
 
