@@ -12,7 +12,40 @@
 //! (d) flat walk vs skip grid (blocks, pyramid) × numeric path;
 //! (e) column coherence: a level flight view traced column by column,
 //!     bottom-up, with and without `intersect_coherent` (answers checked
-//!     identical).
+//!     identical);
+//! (f) native Embree 3 (examples/embree_peer/peer.cpp, built here with
+//!     `g++ -O3 -march=native … -lembree3`; skipped with a message when g++
+//!     or libembree-dev is missing — it is for this bench, not CI): the
+//!     bench512 field as POV-Ray's triangles, the bench view's primary rays
+//!     at 1280×800, `rtcIntersect1` and `rtcIntersect8` on 4×2 tiles vs
+//!     hfray on the same rays, interleaved; build time and memory;
+//! (g) instructions per ray (`valgrind --tool=callgrind`, when installed)
+//!     on the `render` command, bench512.pov at 320×200: per primary ray
+//!     (`--aov depth`), coherence on and off, and per shadow ray. The
+//!     method, which can be run by hand (after section (a) has written
+//!     target/bench512/):
+//!
+//!     ```text
+//!     R=target/release/examples/render; S=target/bench512/bench512.pov
+//!     valgrind --tool=callgrind --callgrind-out-file=cg.big $R $S -o d.pfm --aov depth --width 320 --height 200 --coherence off
+//!     valgrind --tool=callgrind --callgrind-out-file=cg.one $R $S -o d.pfm --aov depth --width 1 --height 1 --coherence off
+//!     grep ^summary: cg.big cg.one   # (Ir(320×200) − Ir(1×1)) / 63,999 = per primary ray
+//!     ```
+//!
+//!     and the same without `--aov depth` (output `.tga`) for the full
+//!     render: (Ir_full − Ir_depth) / shadow rays = per shadow ray
+//!     (shadow walk plus the shading of the hit it serves).
+//!
+//! (h) the level view (examples/scenes/level_rmnp.pov: the camera at terrain
+//!     height looking horizontally across the RMNP DEM, 640×400, shadows):
+//!     full render, coherent (bottom-up) and plain, vs `povray +WT1 -A`
+//!     Trace Time, interleaved.
+//!
+//! Section letters as a second argument run only those sections:
+//! `cargo run --release --example bench -- 5 af`.
+//!
+//! Visits are counted per ray, block passes (skip-grid blocks tested) and
+//! cell visits (cells stepped through, tested or culled) separately.
 //!
 //! Times are medians of RUNS runs of the thread's CPU time
 //! (`/proc/thread-self/schedstat`; the machine is shared, so wall time would
@@ -32,7 +65,7 @@ use bench_common::{fractal, median, median_secs, repetitions, sample_secs, PovCa
 use harness::scene_io::{build_fields, load_fields, parse_file_scene};
 use hfray::glam::{DVec3, Vec3};
 use hfray::pixel::Rgb888;
-use hfray::render::{render, RenderSettings};
+use hfray::render::{render, render_coherent, RenderSettings, RowOrder, Stats};
 use hfray::scene::ParseOptions;
 use hfray::{
     ColumnHint, Counters, HeightConvention, HeightField, Numeric, Ray, Samples, SkipGrid,
@@ -78,8 +111,8 @@ fn with_grid<'a>(field: &HeightField<'a>, buf: &'a [u8], mode: Traversal) -> Hei
 }
 
 /// Primary rays per second through `intersect_counted` (the field's
-/// numeric path and mode); hits; cells + blocks visited per ray.
-fn primary(field: &HeightField<'_>, rays: &[Ray], runs: usize) -> (f64, u64, f64) {
+/// numeric path and mode); hits; block passes and cell visits per ray.
+fn primary(field: &HeightField<'_>, rays: &[Ray], runs: usize) -> (f64, u64, f64, f64) {
     let mut hits = 0;
     let mut c = Counters::default();
     let secs = median_secs(runs, || {
@@ -94,7 +127,8 @@ fn primary(field: &HeightField<'_>, rays: &[Ray], runs: usize) -> (f64, u64, f64
     (
         rays.len() as f64 / secs,
         hits,
-        (c.cells + c.blocks) as f64 / rays.len() as f64,
+        c.blocks as f64 / rays.len() as f64,
+        c.cells as f64 / rays.len() as f64,
     )
 }
 
@@ -107,19 +141,19 @@ fn write_pgm(path: &Path, n: u32, data: &[u8]) {
 /// One POV-Ray single-thread render of bench512.pov: its Trace Time
 /// (wall s, CPU s); `None` without povray.
 fn povray_trace(dir: &Path) -> Option<(f64, f64)> {
+    povray_trace_of(
+        dir,
+        &["+Ibench512.pov", "+W320", "+H200", "+Obench512-pov.png"],
+    )
+}
+
+/// One POV-Ray single-thread render (`+WT1 -A -D`, PNG, gamma 1) in `dir`
+/// with `args` (scene, size, output): its Trace Time (wall s, CPU s).
+fn povray_trace_of(dir: &Path, args: &[&str]) -> Option<(f64, f64)> {
     let out = Command::new("povray")
         .current_dir(dir)
-        .args([
-            "+Ibench512.pov",
-            "+W320",
-            "+H200",
-            "-A",
-            "+WT1",
-            "-D",
-            "+FN",
-            "+Obench512-pov.png",
-            "File_Gamma=1.0",
-        ])
+        .args(args)
+        .args(["-A", "+WT1", "-D", "+FN", "File_Gamma=1.0"])
         .output()
         .ok()?;
     let err = String::from_utf8_lossy(&out.stderr);
@@ -265,8 +299,16 @@ fn section_c(runs: usize) {
          samples taken side by side; the ratio column is the median of the per-run ratios)"
     );
     println!(
-        "  {:>6} {:>30} {:>10} {:>9} {:>8} {:>11} {:>10}",
-        "field", "mode", "Mrays/s", "vs 256²", "hits", "visits/ray", "skip KiB"
+        "  {:>6} {:>30} {:>10} {:>8} {:>9} {:>8} {:>11} {:>10} {:>10}",
+        "field",
+        "mode",
+        "Mrays/s",
+        "ns/ray",
+        "vs 256²",
+        "hits",
+        "blocks/ray",
+        "cells/ray",
+        "skip KiB"
     );
     let rays = primary_rays();
     let transform = Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap();
@@ -346,7 +388,7 @@ fn section_c(runs: usize) {
         }
         let levels = layout.map(|(l, _)| l.levels).unwrap_or(0);
         println!(
-            "  {:>6} {:>30} {:>10.3} {:>8.0}% {:>8} {:>11.1} {:>10.1}",
+            "  {:>6} {:>30} {:>10.3} {:>8.1} {:>8.0}% {:>8} {:>11.1} {:>10.1} {:>10.1}",
             format!("{n}²"),
             if levels > 0 {
                 format!("{name} ({levels} lv)")
@@ -354,9 +396,11 @@ fn section_c(runs: usize) {
                 name.to_string()
             },
             rays.len() as f64 / secs / 1e6,
+            secs * 1e9 / rays.len() as f64,
             100.0 * median(&mut ratios),
             hits,
-            (counters.cells + counters.blocks) as f64 / rays.len() as f64,
+            counters.blocks as f64 / rays.len() as f64,
+            counters.cells as f64 / rays.len() as f64,
             buf.as_ref().map_or(0.0, |b| b.len() as f64 / 1024.0)
         );
     }
@@ -365,8 +409,8 @@ fn section_c(runs: usize) {
 fn section_d(runs: usize) {
     println!("\n(d) 512² fractal, primary rays: traversal mode x numeric path");
     println!(
-        "  {:>24} {:>6} {:>10} {:>8} {:>11}",
-        "mode", "path", "Mrays/s", "hits", "visits/ray"
+        "  {:>24} {:>6} {:>10} {:>8} {:>8} {:>11} {:>10}",
+        "mode", "path", "Mrays/s", "ns/ray", "hits", "blocks/ray", "cells/ray"
     );
     let n = 512;
     let data = fractal(n, 7);
@@ -386,14 +430,16 @@ fn section_d(runs: usize) {
     ] {
         for num in [Numeric::F32, Numeric::F64, Numeric::Q16, Numeric::Q32] {
             let g = f.clone().with_numeric(num);
-            let (rate, hits, visits) = primary(&g, &rays, runs);
+            let (rate, hits, blocks, cells) = primary(&g, &rays, runs);
             println!(
-                "  {:>24} {:>6} {:>10.3} {:>8} {:>11.1}",
+                "  {:>24} {:>6} {:>10.3} {:>8.1} {:>8} {:>11.1} {:>10.1}",
                 name,
                 format!("{num:?}"),
                 rate / 1e6,
+                1e9 / rate,
                 hits,
-                visits
+                blocks,
+                cells
             );
         }
     }
@@ -466,16 +512,407 @@ fn section_e(runs: usize) {
     assert!(same, "coherent answers differ from the plain walk");
     let hits = reference.iter().filter(|h| h.is_some()).count();
     let rate = |s: f64| rays.len() as f64 / s / 1e6;
+    let per_ray = |c: &Counters| {
+        format!(
+            "{:.1} blocks + {:.1} cells/ray",
+            c.blocks as f64 / rays.len() as f64,
+            c.cells as f64 / rays.len() as f64
+        )
+    };
     println!(
-        "  plain walk   {:>8.3} Mrays/s  ({:.1} visits/ray)\n  coherent     {:>8.3} Mrays/s  ({:.1} visits/ray; {:.2}x; all {} answers identical; {} hits; {} rays resumed)",
+        "  plain walk   {:>8.3} Mrays/s  {:>6.1} ns/ray  ({})\n  coherent     {:>8.3} Mrays/s  {:>6.1} ns/ray  ({}; {:.2}x; all {} answers identical; {} hits; {} rays resumed)",
         rate(plain),
-        (plain_counters.cells + plain_counters.blocks) as f64 / rays.len() as f64,
+        plain * 1e9 / rays.len() as f64,
+        per_ray(&plain_counters),
         rate(coherent),
-        (counters.cells + counters.blocks) as f64 / rays.len() as f64,
+        coherent * 1e9 / rays.len() as f64,
+        per_ray(&counters),
         speedup,
         rays.len(),
         hits,
         counters.resumed,
+    );
+}
+
+/// Builds the Embree peer into target/embree_peer/; `Err` says why not.
+fn build_embree_peer() -> Result<std::path::PathBuf, String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = root.join("target/embree_peer");
+    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    let exe = dir.join("peer");
+    let out = Command::new("g++")
+        .args(["-O3", "-march=native", "-std=c++17"])
+        .arg(root.join("examples/embree_peer/peer.cpp"))
+        .arg("-o")
+        .arg(&exe)
+        .arg("-lembree3")
+        .output()
+        .map_err(|e| format!("g++ not found ({e})"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "g++ failed (is libembree-dev installed?):\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    Ok(exe)
+}
+
+/// `key=value` pairs of the peer's line.
+fn peer_value(line: &str, key: &str) -> Option<f64> {
+    line.split_whitespace()
+        .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))?
+        .parse()
+        .ok()
+}
+
+fn section_f(runs: usize) {
+    const FW: u32 = 1280;
+    const FH: u32 = 800;
+    println!(
+        "\n(f) native Embree 3 vs hfray: bench512 field, bench view at {FW}x{FH}, primary rays, one thread"
+    );
+    let exe = match build_embree_peer() {
+        Ok(e) => e,
+        Err(why) => {
+            println!("  Embree peer skipped: {why}");
+            return;
+        }
+    };
+    let n = 512;
+    let data = fractal(n, 7);
+    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
+        .unwrap()
+        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
+    let buf = skip_buffer(&field, SkipLayout::pyramid(n, n, 2));
+    let f = with_grid(&field, &buf, Traversal::Hierarchy);
+    let cam = PovCamera::new(
+        Vec3::new(0.5, 0.8, -0.6),
+        Vec3::new(0.5, 0.1, 0.5),
+        FW,
+        FH,
+        60.0,
+    );
+    let rays: Vec<Ray> = (0..FH)
+        .flat_map(|py| (0..FW).map(move |px| (px, py)))
+        .map(|(px, py)| Ray::new(cam.location, cam.ray(px, py)))
+        .collect();
+    // The field as POV-Ray's triangles' vertices (world space) and the rays.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/embree_peer");
+    let mut bytes = Vec::new();
+    bytes.extend_from_slice(&n.to_le_bytes());
+    bytes.extend_from_slice(&n.to_le_bytes());
+    for z in 0..n {
+        for x in 0..n {
+            let y = f.height(x, z).unwrap() * 0.3;
+            for v in [x as f32 / (n - 1) as f32, y, z as f32 / (n - 1) as f32] {
+                bytes.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(dir.join("field.bin"), &bytes).unwrap();
+    bytes.clear();
+    bytes.extend_from_slice(&FW.to_le_bytes());
+    bytes.extend_from_slice(&FH.to_le_bytes());
+    for r in &rays {
+        for v in r
+            .origin
+            .to_array()
+            .into_iter()
+            .chain(r.direction.to_array())
+        {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    std::fs::write(dir.join("rays.bin"), &bytes).unwrap();
+    let mut counters = Counters::default();
+    let mut hits = 0u64;
+    let mut trace = || {
+        hits = 0;
+        counters = Counters::default();
+        for r in &rays {
+            hits += f
+                .intersect_counted(r, 0.0, f32::INFINITY, &mut counters)
+                .is_some() as u64;
+        }
+    };
+    let reps = repetitions(&mut trace);
+    let (mut ours, mut e1, mut e8, mut ratio8) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut last = String::new();
+    // Interleaved: each run times hfray, then one peer process (which
+    // builds its BVH and times both kernels, 3 passes each).
+    for _ in 0..runs {
+        let t = sample_secs(reps, &mut trace);
+        let out = match Command::new(&exe)
+            .arg(dir.join("field.bin"))
+            .arg(dir.join("rays.bin"))
+            .arg("3")
+            .output()
+        {
+            Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).into_owned(),
+            Ok(o) => {
+                println!(
+                    "  Embree peer failed: {}",
+                    String::from_utf8_lossy(&o.stderr)
+                );
+                return;
+            }
+            Err(e) => {
+                println!("  Embree peer did not run: {e}");
+                return;
+            }
+        };
+        let (Some(s1), Some(s8)) = (peer_value(&out, "seconds1"), peer_value(&out, "seconds8"))
+        else {
+            println!("  Embree peer printed no timings: {out}");
+            return;
+        };
+        ours.push(t);
+        e1.push(s1);
+        e8.push(s8);
+        ratio8.push(t / s8);
+        last = out;
+    }
+    let get = |k: &str| peer_value(&last, k).unwrap_or(f64::NAN);
+    let rate = |s: f64| rays.len() as f64 / s / 1e6;
+    let (ours, e1, e8) = (median(&mut ours), median(&mut e1), median(&mut e8));
+    println!(
+        "  {:<34} {:>8.3} Mrays/s {:>7.1} ns/ray  hits {:>8}  ({:.1} blocks + {:.1} cells/ray; skip grid {} bytes = {:.3} B/sample)",
+        "hfray pyramid fan-out 4, f32",
+        rate(ours),
+        ours * 1e9 / rays.len() as f64,
+        hits,
+        counters.blocks as f64 / rays.len() as f64,
+        counters.cells as f64 / rays.len() as f64,
+        buf.len(),
+        buf.len() as f64 / (n * n) as f64
+    );
+    for (name, secs, key) in [
+        ("Embree rtcIntersect1", e1, "hits1"),
+        ("Embree rtcIntersect8 (4x2 tiles)", e8, "hits8"),
+    ] {
+        println!(
+            "  {:<34} {:>8.3} Mrays/s {:>7.1} ns/ray  hits {:>8}",
+            name,
+            rate(secs),
+            secs * 1e9 / rays.len() as f64,
+            get(key)
+        );
+    }
+    println!(
+        "  Embree build {:.3} s (thread CPU), {:.1} MB from its memory monitor, max RSS +{:.1} MB; {} triangles",
+        get("build_seconds"),
+        get("embree_bytes") / 1e6,
+        get("rss_growth_bytes") / 1e6,
+        get("triangles")
+    );
+    println!(
+        "  hfray time / Embree rtcIntersect8 time = {:.3} (median of per-run ratios; target <= 1)",
+        median(&mut ratio8)
+    );
+}
+
+/// Total instructions (`summary:`) of a callgrind run of `render` on
+/// `scene`, or why not.
+fn callgrind_ir(scene: &Path, args: &[&str]) -> Result<u64, String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out_file = root.join("target/bench512/callgrind.out");
+    let o = Command::new("valgrind")
+        .arg("--tool=callgrind")
+        .arg(format!("--callgrind-out-file={}", out_file.display()))
+        .arg(root.join("target/release/examples/render"))
+        .arg(scene)
+        .args(args)
+        .arg("--quiet")
+        .output()
+        .map_err(|e| format!("valgrind not found ({e})"))?;
+    if !o.status.success() {
+        return Err(String::from_utf8_lossy(&o.stderr).into_owned());
+    }
+    let text = std::fs::read_to_string(&out_file).map_err(|e| e.to_string())?;
+    text.lines()
+        .find_map(|l| l.strip_prefix("summary:"))
+        .and_then(|v| v.trim().parse().ok())
+        .ok_or_else(|| "no summary line in the callgrind output".into())
+}
+
+fn section_g() {
+    println!(
+        "\n(g) instructions per ray: callgrind on `render` at 320x200, (Ir at 320x200 - Ir at 1x1) / rays"
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    if !root.join("target/bench512/bench512.pgm").exists() {
+        println!("  skipped: run section (a) first (it writes target/bench512/)");
+        return;
+    }
+    let built = Command::new(env!("CARGO"))
+        .args(["build", "--release", "--quiet", "--example", "render"])
+        .current_dir(root)
+        .status();
+    if !built.is_ok_and(|s| s.success()) {
+        println!("  skipped: building the render example failed");
+        return;
+    }
+    let dir = root.join("target/bench512");
+    let (pfm, tga) = (dir.join("g.pfm"), dir.join("g.tga"));
+    let (pfm, tga) = (pfm.to_str().unwrap(), tga.to_str().unwrap());
+    let rays = (W * H - 1) as f64;
+    for (name, scene) in [
+        ("bench512.pov (pitched)", dir.join("bench512.pov")),
+        (
+            "level_rmnp.pov (level)",
+            root.join("examples/scenes/level_rmnp.pov"),
+        ),
+    ] {
+        println!("  {name}:");
+        let ir = |out: &str, size: (&str, &str), extra: &[&str]| {
+            let mut args = vec!["-o", out, "--width", size.0, "--height", size.1];
+            args.extend_from_slice(extra);
+            callgrind_ir(&scene, &args)
+        };
+        let per = |out: &str, extra: &[&str]| -> Result<u64, String> {
+            Ok(ir(out, ("320", "200"), extra)? - ir(out, ("1", "1"), extra)?)
+        };
+        // Shadow rays of the full render, from its --stats line.
+        let shadows_of = |extra: &[&str]| {
+            let o = Command::new(root.join("target/release/examples/render"))
+                .arg(&scene)
+                .args(["-o", tga, "--width", "320", "--height", "200", "--stats"])
+                .args(extra)
+                .output()
+                .ok()?;
+            let err = String::from_utf8_lossy(&o.stderr).into_owned();
+            peer_value(err.lines().find(|l| l.starts_with("stats:"))?, "shadow")
+        };
+        for coherence in ["off", "on"] {
+            let c = ["--coherence", coherence];
+            let depth = match per(pfm, &["--aov", "depth", c[0], c[1]]) {
+                Ok(d) => d,
+                Err(e) => {
+                    println!("    skipped: {e}");
+                    return;
+                }
+            };
+            print!(
+                "    coherence {coherence:<3}: {:>6.0} instructions per primary ray (--aov depth)",
+                depth as f64 / rays
+            );
+            // The full render (TGA: bottom-up with coherence on) against
+            // the depth pass: what shadow rays and shading add.
+            match (per(tga, &c), shadows_of(&c)) {
+                (Ok(full), Some(shadows)) => println!(
+                    "; full render {:>6.0} per ray ({} shadow rays, {:.0} instructions each incl. shading)",
+                    full as f64 / (rays + shadows),
+                    shadows,
+                    (full as f64 - depth as f64) / shadows
+                ),
+                _ => println!(),
+            }
+        }
+    }
+}
+
+fn section_h(runs: usize) {
+    const LW: u32 = 640;
+    const LH: u32 = 400;
+    println!("\n(h) level view: level_rmnp.pov, {LW}x{LH}, 1 light, shadows, no AA: full render");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene_path = root.join("examples/scenes/level_rmnp.pov");
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    let options = ParseOptions {
+        image_width: LW,
+        image_height: LH,
+        ..ParseOptions::default()
+    };
+    let scene = parse_file_scene(&scene_path, &text, &options, &mut |w| eprintln!("{w}")).unwrap();
+    let loaded = load_fields(&scene, &scene_path).unwrap();
+    let fields = build_fields(&scene, &loaded).unwrap();
+    let plain_settings = RenderSettings::new(LW, LH);
+    let coherent_settings = plain_settings.clone().with_order(RowOrder::BottomUp);
+    let mut hints = vec![ColumnHint::new(); coherent_settings.column_hints_needed(fields.len())];
+    let (mut line, mut line2) = (
+        vec![Rgb888::default(); LW as usize],
+        vec![Rgb888::default(); LW as usize],
+    );
+    let (mut stats_plain, mut stats_coherent) = (Stats::default(), Stats::default());
+    let mut plain = || {
+        stats_plain = render(&scene, &fields, &plain_settings, &mut line, &mut |_, _| {
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    };
+    let mut coherent = || {
+        hints.fill(ColumnHint::new());
+        stats_coherent = render_coherent(
+            &scene,
+            &fields,
+            &coherent_settings,
+            &mut line2,
+            &mut hints,
+            &mut |_, _| ControlFlow::Continue(()),
+        )
+        .unwrap();
+    };
+    let (rp, rc) = (repetitions(&mut plain), repetitions(&mut coherent));
+    let dir = root.join("examples/scenes");
+    let out = root.join("target/level-pov.png");
+    let pov_args = [
+        "+Ilevel_rmnp.pov".to_string(),
+        format!("+W{LW}"),
+        format!("+H{LH}"),
+        format!("+O{}", out.display()),
+    ];
+    let pov_args: Vec<&str> = pov_args.iter().map(|s| s.as_str()).collect();
+    let have_povray = povray_trace_of(&dir, &pov_args).is_some();
+    let (mut tp, mut tc, mut pov_wall, mut pov_cpu) = (vec![], vec![], vec![], vec![]);
+    let (mut ratio_c, mut ratio_p, mut ratio_cpu) = (vec![], vec![], vec![]);
+    for _ in 0..runs {
+        let p = sample_secs(rp, &mut plain);
+        let c = sample_secs(rc, &mut coherent);
+        tp.push(p);
+        tc.push(c);
+        if have_povray {
+            if let Some((wall, cpu)) = povray_trace_of(&dir, &pov_args) {
+                pov_wall.push(wall);
+                pov_cpu.push(cpu);
+                ratio_c.push(c / wall);
+                ratio_p.push(p / wall);
+                ratio_cpu.push(c / cpu);
+            }
+        }
+    }
+    let (sp, sc) = (stats_plain, stats_coherent);
+    println!(
+        "  {:<40} {:>8.4} s  ({} rays: {} primary, {} shadow)",
+        "hfray plain (top-down)",
+        median(&mut tp),
+        sp.rays(),
+        sp.primary_rays,
+        sp.shadow_rays
+    );
+    println!(
+        "  {:<40} {:>8.4} s  ({} of {} primary rays resumed; {:.1} vs {:.1} cells/ray)",
+        "hfray coherent (bottom-up)",
+        median(&mut tc),
+        sc.resumed,
+        sc.primary_rays,
+        sc.cells as f64 / sc.rays() as f64,
+        sp.cells as f64 / sp.rays() as f64
+    );
+    if pov_wall.is_empty() {
+        println!("  POV-Ray not found (apt-get install povray): comparison skipped");
+        return;
+    }
+    println!(
+        "  {:<40} {:>8.4} s  (Trace Time wall; {:.3} CPU-seconds)",
+        "POV-Ray 3.7 +WT1 -A",
+        median(&mut pov_wall),
+        median(&mut pov_cpu)
+    );
+    println!(
+        "  hfray coherent / POV-Ray trace time = {:.3} (vs its CPU-seconds {:.3}); plain / POV-Ray = {:.3} (medians of per-run ratios; target <= 0.15)",
+        median(&mut ratio_c),
+        median(&mut ratio_cpu),
+        median(&mut ratio_p)
     );
 }
 
@@ -517,5 +954,14 @@ fn main() {
     }
     if only.is_empty() || only.contains('e') {
         section_e(runs);
+    }
+    if only.is_empty() || only.contains('f') {
+        section_f(runs);
+    }
+    if only.is_empty() || only.contains('g') {
+        section_g();
+    }
+    if only.is_empty() || only.contains('h') {
+        section_h(runs);
     }
 }

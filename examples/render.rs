@@ -5,6 +5,16 @@
 //! cargo run --release --example render -- --help
 //! ```
 //!
+//! `--walk` chooses how height fields are crossed (default: the skip
+//! pyramid, `hierarchy`) and `--coherence` whether primary rays resume
+//! where the ray below them stopped (default `on`; it pays with a level
+//! camera). Every choice gives the same image, only the work differs: see
+//! it with `--stats` (`cells`, `blocks`, `resumed`). With coherence on and
+//! a level camera (`up` vertical), TGA and PFM files are rendered bottom
+//! row first (TGA then has its bottom-left origin; PFM stores rows that way
+//! anyway); PNG stays top-down, as it must be written, so its rays do not
+//! resume. Other cameras render top-down, as without coherence.
+//!
 //! The output type follows the extension: `.tga` (uncompressed 24-bit),
 //! `.png`, or `.pfm` with `--aov depth` (distance to the first hit along the
 //! normalised camera ray, `+inf` for none). Rows are written as they are
@@ -51,9 +61,11 @@ use harness::scene_io::{
 };
 use harness::tga::TgaWriter;
 use hfray::pixel::Rgb888;
-use hfray::render::{render, render_depth, RenderError, RenderSettings, Stats};
+use hfray::render::{
+    render_coherent, render_depth_coherent, RenderError, RenderSettings, RowOrder, Stats,
+};
 use hfray::scene::ParseOptions;
-use hfray::HeightField;
+use hfray::{render, render_depth, Camera, ColumnHint, HeightField, Traversal};
 
 #[global_allocator]
 static ALLOC: CountingAlloc = CountingAlloc::new();
@@ -123,6 +135,32 @@ struct Options {
     /// No warnings, notes or progress.
     #[arg(long)]
     quiet: bool,
+    /// How height fields are crossed: `flat` (every cell), `blocks` (the
+    /// skip pyramid, block by block) or `hierarchy` (the hierarchical DDA
+    /// over the pyramid). Every choice writes the same image.
+    #[arg(long, value_name = "WALK", default_value = "hierarchy", value_parser = parse_walk)]
+    walk: Traversal,
+    /// Whether a primary ray resumes where the ray below it stopped (exact;
+    /// it pays with a level camera). The same image either way.
+    #[arg(long, value_name = "on|off", default_value = "on", value_parser = parse_on_off, action = clap::ArgAction::Set)]
+    coherence: bool,
+}
+
+fn parse_walk(value: &str) -> Result<Traversal, String> {
+    match value {
+        "flat" => Ok(Traversal::Flat),
+        "blocks" => Ok(Traversal::Blocks),
+        "hierarchy" => Ok(Traversal::Hierarchy),
+        _ => Err(format!("'{value}' is not flat, blocks or hierarchy")),
+    }
+}
+
+fn parse_on_off(value: &str) -> Result<bool, String> {
+    match value {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("'{value}' is not on or off")),
+    }
 }
 
 impl Options {
@@ -204,6 +242,16 @@ fn extension(p: &Path) -> String {
         .to_ascii_lowercase()
 }
 
+/// The row order `o`'s output is written in: bottom-up where the format
+/// allows it and coherence can use it (a level camera), else top-down.
+fn row_order(o: &Options, scene: &FileScene<'_>) -> RowOrder {
+    let level = Camera::new(&scene.camera, o.width, o.height).is_ok_and(|c| c.level_columns());
+    match extension(&o.output).as_str() {
+        "tga" | "pfm" if o.coherence && level => RowOrder::BottomUp,
+        _ => RowOrder::TopDown,
+    }
+}
+
 type File = std::io::BufWriter<std::fs::File>;
 
 /// The output file, written row by row in order as rows leave the renderer.
@@ -236,12 +284,25 @@ fn io_err(path: &Path, e: std::io::Error) -> String {
 
 impl Sink {
     /// Writes to `file` for the final `path`, typed by `path`'s extension.
-    fn create(path: &Path, file: std::fs::File, width: u32, height: u32) -> Result<Sink, String> {
+    fn create(
+        path: &Path,
+        file: std::fs::File,
+        width: u32,
+        height: u32,
+        order: RowOrder,
+    ) -> Result<Sink, String> {
         let err = |e| io_err(path, e);
         let file = std::io::BufWriter::new(file);
+        let bottom_up = order == RowOrder::BottomUp;
         let output = match extension(path).as_str() {
+            "tga" if bottom_up => {
+                Output::Tga(TgaWriter::new_bottom_up(file, width, height).map_err(err)?)
+            }
             "tga" => Output::Tga(TgaWriter::new(file, width, height).map_err(err)?),
             "png" => Output::Png(Box::new(PngWriter::new(file, width, height).map_err(err)?)),
+            _ if bottom_up => {
+                Output::Pfm(PfmWriter::new_bottom_up(file, width, height).map_err(err)?)
+            }
             _ => Output::Pfm(PfmWriter::new(file, width, height).map_err(err)?),
         };
         Ok(Sink {
@@ -394,16 +455,22 @@ fn render_rows(
     sink: &mut Sink,
     progress: &mut Progress,
 ) -> Result<Stats, String> {
-    let base = RenderSettings::new(o.width, o.height).with_aa(o.aa);
+    let order = row_order(o, scene);
+    let base = RenderSettings::new(o.width, o.height)
+        .with_aa(o.aa)
+        .with_order(order);
     let Threads {
         count: threads,
         queue_rows,
     } = threads;
-    let bands: Vec<Range<u32>> = rows
+    let mut bands: Vec<Range<u32>> = rows
         .clone()
         .step_by(BAND_ROWS as usize)
         .map(|a| a..(a + BAND_ROWS).min(rows.end))
         .collect();
+    if order == RowOrder::BottomUp {
+        bands.reverse();
+    }
     std::thread::scope(|s| {
         // One bounded queue per worker: a worker runs at most
         // `queue_rows` rows ahead of the writer.
@@ -420,20 +487,34 @@ fn render_rows(
                 .collect();
             let base = base.clone();
             let depth = o.depth_aov();
+            let coherence = o.coherence;
             handles.push(s.spawn(move || -> Stats {
                 let mut total = Stats::default();
+                // Kept from band to band: this worker's bands come one above
+                // the other.
+                let mut hints = vec![ColumnHint::new(); base.column_hints_needed(fields.len())];
                 for band in my_bands {
                     let settings = base.clone().with_rows(band);
                     let result = if depth {
                         let mut line = vec![0f32; settings.width as usize];
-                        render_depth(scene, fields, &settings, &mut line, &mut |_, r| {
-                            send(&tx, Row::Depth(r.to_vec()))
-                        })
+                        let mut sink = |_, r: &[f32]| send(&tx, Row::Depth(r.to_vec()));
+                        if coherence {
+                            render_depth_coherent(
+                                scene, fields, &settings, &mut line, &mut hints, &mut sink,
+                            )
+                        } else {
+                            render_depth(scene, fields, &settings, &mut line, &mut sink)
+                        }
                     } else {
                         let mut line = vec![Rgb888::default(); settings.width as usize];
-                        render(scene, fields, &settings, &mut line, &mut |_, r| {
-                            send(&tx, Row::Color(r.to_vec()))
-                        })
+                        let mut sink = |_, r: &[Rgb888]| send(&tx, Row::Color(r.to_vec()));
+                        if coherence {
+                            render_coherent(
+                                scene, fields, &settings, &mut line, &mut hints, &mut sink,
+                            )
+                        } else {
+                            render(scene, fields, &settings, &mut line, &mut sink)
+                        }
                     };
                     match result {
                         Ok(stats) => {
@@ -643,13 +724,17 @@ fn run(o: &Options) -> Result<(), String> {
         }
         let mut budget = DecodeBudget::new(o.max_image_mib << 20);
         let loaded = load_fields_within(&scene, &source, &mut budget)?;
-        let fields = build_fields_located(&scene, &loaded, &source)?;
+        let fields: Vec<HeightField<'_>> = build_fields_located(&scene, &loaded, &source)?
+            .into_iter()
+            .map(|f| f.with_traversal(o.walk))
+            .collect();
         let parse_seconds = parse_start.elapsed().as_secs_f64();
 
         let output = frame_path(&o.output, frame, o.frames);
         refuse_input_as_output(&output, &input_files(&scene, &source))?;
         let (file, temp) = create_partial(&output)?;
-        let mut sink = match Sink::create(&output, file, o.width, rows.len() as u32) {
+        let order = row_order(o, &scene);
+        let mut sink = match Sink::create(&output, file, o.width, rows.len() as u32, order) {
             Ok(sink) => sink,
             Err(e) => {
                 discard(temp);
@@ -681,7 +766,8 @@ fn run(o: &Options) -> Result<(), String> {
         if o.stats {
             eprintln!(
                 "stats: width={} height={} rays={} primary={} shadow={} reflected={} cells={} \
-                 tri_tests={} hits={} parse_seconds={:.6} trace_seconds={:.6} heap_peak_bytes={}",
+                 tri_tests={} hits={} blocks={} resumed={} parse_seconds={:.6} \
+                 trace_seconds={:.6} heap_peak_bytes={}",
                 o.width,
                 rows.len(),
                 stats.rays(),
@@ -691,6 +777,8 @@ fn run(o: &Options) -> Result<(), String> {
                 stats.cells,
                 stats.triangle_tests,
                 stats.hits,
+                stats.blocks,
+                stats.resumed,
                 parse_seconds,
                 trace_seconds,
                 ALLOC.snapshot().peak_bytes

@@ -73,6 +73,20 @@ impl core::fmt::Display for CameraError {
     }
 }
 
+/// A camera ray as the renderer traces it ([`Camera::camera_ray`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraRay {
+    /// The ray with a unit direction: shading, depth and analytic shapes
+    /// use it.
+    pub ray: Ray,
+    /// The same line from the same origin, with the camera's unnormalised
+    /// direction: height fields are walked along it.
+    pub walk: Ray,
+    /// `|walk.direction|`: a `t` along `walk` times `length` is the `t`
+    /// along `ray`.
+    pub length: f32,
+}
+
 /// A camera ready to generate rays for one image size.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
@@ -190,13 +204,25 @@ impl Camera {
     /// direction is unit length, so ray parameters are distances.
     #[inline]
     pub fn ray(&self, x: f32, y: f32) -> Ray {
+        let walk = self.walk_ray(x, y);
+        match self.projection {
+            Projection::Perspective => Ray::new(walk.origin, walk.direction.normalize_or_zero()),
+            Projection::Orthographic => walk,
+        }
+    }
+
+    /// The ray through `(x, y)` before normalisation: direction
+    /// `D + x0·R + y0·U` (perspective), or the unit view direction from the
+    /// point `location + x0·R + y0·U` (orthographic).
+    #[inline]
+    fn walk_ray(&self, x: f32, y: f32) -> Ray {
         let x0 = x * self.inv_width - 0.5;
         let y0 = 0.5 - y * self.inv_height;
         match self.projection {
-            Projection::Perspective => {
-                let d = self.direction + self.right * x0 + self.up * y0;
-                Ray::new(self.location, d.normalize_or_zero())
-            }
+            Projection::Perspective => Ray::new(
+                self.location,
+                self.direction + self.right * x0 + self.up * y0,
+            ),
             Projection::Orthographic => {
                 Ray::new(self.location + self.right * x0 + self.up * y0, self.view)
             }
@@ -207,6 +233,43 @@ impl Camera {
     #[inline]
     pub fn pixel_ray(&self, px: u32, py: u32) -> Ray {
         self.ray(px as f32 + 0.5, py as f32 + 0.5)
+    }
+
+    /// The renderer's ray through `(x, y)`: [`ray`](Self::ray)'s unit ray,
+    /// and the unnormalised ray along which height fields are walked.
+    ///
+    /// Perspective: `walk` has the direction `D + x0·R + y0·U` itself. Its
+    /// components are affine in the image position, so a level camera's
+    /// (`U` vertical, hence `U`'s horizontal components exactly zero) rays
+    /// of one image column share their `x` and `z` direction bit for bit,
+    /// which column coherence needs
+    /// ([`HeightField::intersect_coherent`](crate::HeightField::intersect_coherent)).
+    /// The unit ray's direction is the same vector scaled by the
+    /// reciprocal of `length`, computed exactly as [`ray`](Self::ray) does.
+    /// Orthographic: both rays are [`ray`](Self::ray)'s, `length` 1.
+    #[inline]
+    pub fn camera_ray(&self, x: f32, y: f32) -> CameraRay {
+        let walk = self.walk_ray(x, y);
+        match self.projection {
+            Projection::Perspective => CameraRay {
+                ray: Ray::new(walk.origin, walk.direction.normalize_or_zero()),
+                walk,
+                length: walk.direction.length(),
+            },
+            Projection::Orthographic => CameraRay {
+                ray: walk,
+                walk,
+                length: 1.0,
+            },
+        }
+    }
+
+    /// `true` if the rays of each image column share their horizontal
+    /// origin and walk-direction components bit for bit (`U` has no
+    /// horizontal component: a level perspective or orthographic camera),
+    /// the camera half of what column coherence needs.
+    pub fn level_columns(&self) -> bool {
+        self.up.x == 0.0 && self.up.z == 0.0
     }
 
     /// The projection.
@@ -367,6 +430,34 @@ mod tests {
             Camera::new(&base, 0, 4).unwrap_err(),
             CameraError::EmptyImage
         );
+    }
+
+    #[test]
+    fn camera_ray_is_ray_plus_its_unnormalised_walk_ray() {
+        let level = CameraDesc {
+            location: Vec3::new(0.3, 0.2, -1.0),
+            look_at: Vec3::new(0.6, 0.2, 0.5),
+            angle: Some(50.0),
+            ..CameraDesc::default()
+        };
+        let pitched = CameraDesc {
+            look_at: Vec3::new(0.6, -0.4, 0.5),
+            ..level
+        };
+        for (desc, is_level) in [(level, true), (pitched, false)] {
+            let c = Camera::new(&desc, 16, 10).unwrap();
+            assert_eq!(c.level_columns(), is_level);
+            for (x, y) in [(0.5, 0.5), (7.25, 3.0), (15.5, 9.5)] {
+                let cr = c.camera_ray(x, y);
+                assert_eq!(cr.ray, c.ray(x, y));
+                assert_eq!(cr.walk.origin, cr.ray.origin);
+                assert!(close(cr.walk.direction / cr.length, cr.ray.direction));
+                // A level camera's column shares the walk direction's x, z.
+                let below = c.camera_ray(x, y + 1.0).walk.direction;
+                let same_xz = below.x == cr.walk.direction.x && below.z == cr.walk.direction.z;
+                assert_eq!(same_xz, is_level, "{desc:?}");
+            }
+        }
     }
 
     #[test]

@@ -294,14 +294,17 @@ pub mod skip;
 pub mod transform;
 pub mod traversal;
 
-pub use camera::{Camera, CameraError};
+pub use camera::{Camera, CameraError, CameraRay};
 pub use glam;
 pub use heapless;
 pub use heightfield::{ColumnHint, HeightConvention, HeightField, HeightFieldError, Samples};
 pub use pixel::{Indexed8, LinearRgb, Pixel, Rgb565, Rgb565Dithered, Rgb888, PALETTE_256};
 pub use ray::{FieldHit, Ray, Triangle};
 pub use real::{Numeric, Real};
-pub use render::{render, render_depth, RenderError, RenderSettings, Stats};
+pub use render::{
+    render, render_coherent, render_depth, render_depth_coherent, RenderError, RenderSettings,
+    RowOrder, Stats,
+};
 pub use shading::Tracer;
 pub use skip::{SkipError, SkipGrid, SkipLayout};
 pub use transform::Transform;

@@ -2,8 +2,9 @@
 //!
 //! [`render`] traces one row at a time into `line` (exactly `width`
 //! pixels, any [`Pixel`] format) and hands each finished row to the
-//! caller's sink, in order, from `settings.rows.start` to
-//! `settings.rows.end - 1`. The sink returns [`ControlFlow::Break`] to stop
+//! caller's sink, in the [`RowOrder`] of `settings.order`: from
+//! `settings.rows.start` to `settings.rows.end - 1` (top-down, the default)
+//! or the reverse (bottom-up); the sink is told each row's index. The sink returns [`ControlFlow::Break`] to stop
 //! the render early (the statistics then say `cancelled`). Nothing else is
 //! stored: there is no frame buffer, no allocation, and the stack use does
 //! not depend on the image, the scene's depth or `max_trace_level` (see
@@ -26,13 +27,29 @@
 //! transform, water level and palette; the field's own values are used and
 //! the renderer checks that they agree with the object
 //! ([`RenderError::FieldMismatch`]).
+//!
+//! **Camera rays.** Height fields are walked along the camera's
+//! unnormalised ray ([`Camera::camera_ray`]) over `[0, ∞)`, their `t` then
+//! carried to the unit ray that shading, the depth AOV and the other
+//! objects use. [`render_coherent`] and [`render_depth_coherent`] walk
+//! those rays with a [`ColumnHint`] per field and sample column
+//! ([`HeightField::intersect_coherent`]): with a level camera (perspective
+//! with a vertical `up`, or orthographic with a level `up`) rendered
+//! [`RowOrder::BottomUp`], a primary ray starts its walk where the ray below
+//! it stopped. The images are byte for byte those of [`render`] and
+//! [`render_depth`] (`tests/coherence.rs`), whatever the camera or order;
+//! only the work differs (`Stats::resumed` counts the rays that resumed).
+//! With any other camera, or top-down rows, the hints are left alone and
+//! the render costs what [`render`] costs. A pitched camera's column rays do not share their
+//! horizontal direction, so they are not resumed: see
+//! `docs/coherence.md` for why and what an exact scheme for them needs.
 
 use core::ops::{ControlFlow, Range};
 
 use glam::Vec3;
 
 use crate::camera::{Camera, CameraError};
-use crate::heightfield::HeightField;
+use crate::heightfield::{ColumnHint, HeightField};
 use crate::pixel::Pixel;
 use crate::scene::Scene;
 use crate::shading::Tracer;
@@ -50,6 +67,20 @@ pub struct RenderSettings {
     pub aa: u32,
     /// The band of rows to render (`0..height` for the whole image).
     pub rows: Range<u32>,
+    /// The order the rows are traced and handed to the sink in.
+    pub order: RowOrder,
+}
+
+/// The order of a render's rows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RowOrder {
+    /// First row first (PNG, most displays).
+    #[default]
+    TopDown,
+    /// Last row first: what column coherence needs (a column's rays then
+    /// rise one after the other); TGA files with a bottom-left origin and
+    /// LCD controllers scanning upwards take rows in this order.
+    BottomUp,
 }
 
 /// Largest accepted `aa` (256 rays per pixel).
@@ -67,6 +98,7 @@ impl RenderSettings {
             height,
             aa: 1,
             rows: 0..height,
+            order: RowOrder::TopDown,
         }
     }
 
@@ -80,6 +112,19 @@ impl RenderSettings {
     pub fn with_rows(mut self, rows: Range<u32>) -> Self {
         self.rows = rows;
         self
+    }
+
+    /// The same, in row order `order`.
+    pub fn with_order(mut self, order: RowOrder) -> Self {
+        self.order = order;
+        self
+    }
+
+    /// How many [`ColumnHint`]s [`render_coherent`] needs for `fields`
+    /// height fields: one per field, sample column and sample row of a
+    /// pixel (`fields · width · aa²`).
+    pub fn column_hints_needed(&self, fields: usize) -> usize {
+        fields * self.width as usize * (self.aa * self.aa) as usize
     }
 }
 
@@ -102,6 +147,11 @@ pub struct Stats {
     pub cells: u64,
     /// Triangle pieces the cell tests examined.
     pub triangle_tests: u64,
+    /// Skip-grid blocks the walks tested.
+    pub blocks: u64,
+    /// Primary rays whose walk resumed where the ray below stopped
+    /// ([`render_coherent`]).
+    pub resumed: u64,
     /// Secondary rays not traced because the fixed pending-ray stack was
     /// full or the per-pixel segment cap was reached (0 in sane scenes).
     pub dropped_rays: u64,
@@ -121,6 +171,8 @@ impl Stats {
     pub fn add_work(&mut self, c: &Counters) {
         self.cells += c.cells;
         self.triangle_tests += c.triangle_tests;
+        self.blocks += c.blocks;
+        self.resumed += c.resumed;
     }
 
     /// Adds another render's counters (e.g. one per thread or band);
@@ -134,6 +186,8 @@ impl Stats {
         self.shadow_hits += o.shadow_hits;
         self.cells += o.cells;
         self.triangle_tests += o.triangle_tests;
+        self.blocks += o.blocks;
+        self.resumed += o.resumed;
         self.dropped_rays += o.dropped_rays;
         self.rows += o.rows;
         self.cancelled |= o.cancelled;
@@ -209,6 +263,14 @@ pub enum RenderError {
         /// Index of the object.
         object: usize,
     },
+    /// [`render_coherent`] was given fewer column hints than
+    /// [`RenderSettings::column_hints_needed`].
+    ColumnHints {
+        /// Hints needed.
+        needed: usize,
+        /// Hints given.
+        given: usize,
+    },
     /// A height field disagrees with its object.
     FieldMismatch {
         /// Index of the object.
@@ -246,6 +308,10 @@ impl core::fmt::Display for RenderError {
                  exact in f32)"
             ),
             RenderError::Shape { object, error } => write!(f, "object {object}: {error}"),
+            RenderError::ColumnHints { needed, given } => write!(
+                f,
+                "coherent render needs {needed} column hints, {given} given"
+            ),
             RenderError::MissingField {
                 object,
                 field_index,
@@ -318,8 +384,15 @@ fn drive<T: Copy>(
     mut pixel: impl FnMut(u32, u32, &mut Stats) -> T,
 ) -> Stats {
     let mut stats = Stats::default();
+    let rows = settings.rows.clone();
+    let bottom_up = settings.order == RowOrder::BottomUp;
     // Bounded by the band's length.
-    for y in settings.rows.clone() {
+    for k in 0..rows.len() as u32 {
+        let y = if bottom_up {
+            rows.end - 1 - k
+        } else {
+            rows.start + k
+        };
         for (x, slot) in line.iter_mut().enumerate() {
             *slot = pixel(x as u32, y, &mut stats);
         }
@@ -332,6 +405,45 @@ fn drive<T: Copy>(
     stats
 }
 
+/// The column hints of sample `(i, j)` of pixel column `x`: one per field.
+fn sample_hints<'h>(
+    hints: &'h mut Option<&mut [ColumnHint]>,
+    fields: usize,
+    settings: &RenderSettings,
+    x: u32,
+    i: u32,
+    j: u32,
+) -> Option<&'h mut [ColumnHint]> {
+    let n = settings.aa;
+    let column = (j * settings.width * n + x * n + i) as usize;
+    hints
+        .as_deref_mut()
+        .map(|h| &mut h[column * fields..(column + 1) * fields])
+}
+
+/// Whether a coherent render's rays can resume at all: a level camera
+/// (`Camera::level_columns`) traced bottom-up. Otherwise the hints are not
+/// consulted, which saves each ray the hint's checks (and the render is the
+/// same either way).
+fn coherence_can_resume(camera: &Camera, settings: &RenderSettings) -> bool {
+    camera.level_columns() && settings.order == RowOrder::BottomUp
+}
+
+fn check_hints(
+    settings: &RenderSettings,
+    fields: usize,
+    hints: &Option<&mut [ColumnHint]>,
+) -> Result<(), RenderError> {
+    let needed = settings.column_hints_needed(fields);
+    match hints {
+        Some(h) if h.len() < needed => Err(RenderError::ColumnHints {
+            needed,
+            given: h.len(),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Renders `settings.rows` of `scene` into `line`, one row at a time,
 /// handing each finished row (with its index) to `sink`; see the module
 /// docs. Returns the counters; `stats.cancelled` if the sink broke off.
@@ -342,9 +454,38 @@ pub fn render<const O: usize, const L: usize, P: Pixel>(
     line: &mut [P],
     sink: &mut impl FnMut(u32, &[P]) -> ControlFlow<()>,
 ) -> Result<Stats, RenderError> {
+    render_with(scene, fields, settings, line, None, sink)
+}
+
+/// [`render`] with column coherence: `hints` holds at least
+/// [`RenderSettings::column_hints_needed`]`(fields.len())` hints, fresh
+/// ([`ColumnHint::new`]) or left by the previous band of the same frame
+/// (rows just below, with [`RowOrder::BottomUp`]). The image is
+/// [`render`]'s, byte for byte.
+pub fn render_coherent<const O: usize, const L: usize, P: Pixel>(
+    scene: &Scene<'_, O, L>,
+    fields: &[HeightField<'_>],
+    settings: &RenderSettings,
+    line: &mut [P],
+    hints: &mut [ColumnHint],
+    sink: &mut impl FnMut(u32, &[P]) -> ControlFlow<()>,
+) -> Result<Stats, RenderError> {
+    render_with(scene, fields, settings, line, Some(hints), sink)
+}
+
+fn render_with<const O: usize, const L: usize, P: Pixel>(
+    scene: &Scene<'_, O, L>,
+    fields: &[HeightField<'_>],
+    settings: &RenderSettings,
+    line: &mut [P],
+    hints: Option<&mut [ColumnHint]>,
+    sink: &mut impl FnMut(u32, &[P]) -> ControlFlow<()>,
+) -> Result<Stats, RenderError> {
     check(settings, line.len())?;
+    check_hints(settings, fields.len(), &hints)?;
     let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
     let tracer = Tracer::new(scene, fields)?;
+    let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     let n = settings.aa;
     let step = 1.0 / n as f32;
     let norm = 1.0 / (n * n) as f32;
@@ -354,7 +495,8 @@ pub fn render<const O: usize, const L: usize, P: Pixel>(
             let sy = y as f32 + (j as f32 + 0.5) * step;
             for i in 0..n {
                 let sx = x as f32 + (i as f32 + 0.5) * step;
-                sum += tracer.trace(&camera.ray(sx, sy), stats);
+                let h = sample_hints(&mut hints, fields.len(), settings, x, i, j);
+                sum += tracer.trace_camera(&camera.camera_ray(sx, sy), h, stats);
             }
         }
         P::from_linear(sum * norm, x, y)
@@ -371,10 +513,39 @@ pub fn render_depth<const O: usize, const L: usize>(
     line: &mut [f32],
     sink: &mut impl FnMut(u32, &[f32]) -> ControlFlow<()>,
 ) -> Result<Stats, RenderError> {
+    render_depth_with(scene, fields, settings, line, None, sink)
+}
+
+/// [`render_depth`] with column coherence, as [`render_coherent`] (the
+/// hints needed are counted with `aa` as set, though only the pixel
+/// centres are traced).
+pub fn render_depth_coherent<const O: usize, const L: usize>(
+    scene: &Scene<'_, O, L>,
+    fields: &[HeightField<'_>],
+    settings: &RenderSettings,
+    line: &mut [f32],
+    hints: &mut [ColumnHint],
+    sink: &mut impl FnMut(u32, &[f32]) -> ControlFlow<()>,
+) -> Result<Stats, RenderError> {
+    render_depth_with(scene, fields, settings, line, Some(hints), sink)
+}
+
+fn render_depth_with<const O: usize, const L: usize>(
+    scene: &Scene<'_, O, L>,
+    fields: &[HeightField<'_>],
+    settings: &RenderSettings,
+    line: &mut [f32],
+    hints: Option<&mut [ColumnHint]>,
+    sink: &mut impl FnMut(u32, &[f32]) -> ControlFlow<()>,
+) -> Result<Stats, RenderError> {
     check(settings, line.len())?;
+    check_hints(settings, fields.len(), &hints)?;
     let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
     let tracer = Tracer::new(scene, fields)?;
+    let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     Ok(drive(settings, line, sink, |x, y, stats| {
-        tracer.depth(&camera.pixel_ray(x, y), stats)
+        let h = sample_hints(&mut hints, fields.len(), settings, x, 0, 0);
+        let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+        tracer.depth_camera(&cam, h, stats)
     }))
 }

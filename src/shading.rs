@@ -76,8 +76,9 @@
 use glam::Vec3;
 use heapless::Vec;
 
+use crate::camera::CameraRay;
 use crate::cell::Corners;
-use crate::heightfield::HeightField;
+use crate::heightfield::{ColumnHint, HeightField};
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::render::{FieldMismatch, RenderError, Stats, MAX_AA};
@@ -327,25 +328,121 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         Some(Surface { object, hit })
     }
 
+    /// The nearest hit of a camera ray: height fields walked along
+    /// `cam.walk` over `[0, ∞)` (coherently when `hints` holds one
+    /// [`ColumnHint`] per field: the same `t` range for every ray, as
+    /// coherence requires), their `t` carried to `cam.ray`'s; then the other
+    /// objects along `cam.ray` up to the nearest field hit. The answer does
+    /// not depend on `hints` (see [`HeightField::intersect_coherent`]).
+    // Without `primitives`, every object is a height field.
+    #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
+    fn nearest_camera_local(
+        &self,
+        cam: &CameraRay,
+        mut hints: Option<&mut [ColumnHint]>,
+        counters: &mut Counters,
+    ) -> Option<(usize, LocalHit)> {
+        let mut best_t = f32::INFINITY;
+        let mut best = None;
+        for (i, obj) in self.objects.iter().enumerate() {
+            let Primitive::HeightField { field_index } = *obj.placed.primitive() else {
+                continue;
+            };
+            let Some(field) = self.fields.get(field_index) else {
+                continue;
+            };
+            let hit = match hints.as_deref_mut().and_then(|h| h.get_mut(field_index)) {
+                Some(hint) => {
+                    field.intersect_coherent(&cam.walk, 0.0, f32::INFINITY, hint, counters)
+                }
+                None => field.intersect_counted(&cam.walk, 0.0, f32::INFINITY, counters),
+            };
+            if let Some(mut h) = hit {
+                h.t *= cam.length;
+                if h.t < best_t {
+                    best_t = h.t;
+                    best = Some((i, LocalHit::Field(h)));
+                }
+            }
+        }
+        for (i, obj) in self.objects.iter().enumerate() {
+            if matches!(obj.placed.primitive(), Primitive::HeightField { .. }) {
+                continue;
+            }
+            if let Some(h) =
+                obj.placed
+                    .intersect_local(&cam.ray, 0.0, best_t, self.fields, counters)
+            {
+                best_t = h.t();
+                best = Some((i, h));
+            }
+        }
+        best
+    }
+
     /// Distance along `ray` (parameter `t`; a distance when the direction
     /// is unit length, as camera rays are) to the first hit of any object,
     /// or `f32::INFINITY`. Counts one primary ray.
     pub fn depth(&self, ray: &Ray, stats: &mut Stats) -> f32 {
         let mut counters = Counters::default();
+        let hit = self.nearest_local(ray, f32::INFINITY, &mut counters);
+        self.count_depth(hit, &counters, stats)
+    }
+
+    /// [`depth`](Self::depth) of a camera ray, its height fields walked as
+    /// [`trace_camera`](Self::trace_camera) walks them.
+    pub fn depth_camera(
+        &self,
+        cam: &CameraRay,
+        hints: Option<&mut [ColumnHint]>,
+        stats: &mut Stats,
+    ) -> f32 {
+        let mut counters = Counters::default();
+        let hit = self.nearest_camera_local(cam, hints, &mut counters);
+        self.count_depth(hit, &counters, stats)
+    }
+
+    fn count_depth(
+        &self,
+        hit: Option<(usize, LocalHit)>,
+        counters: &Counters,
+        stats: &mut Stats,
+    ) -> f32 {
         stats.primary_rays += 1;
-        let t = match self.nearest_local(ray, f32::INFINITY, &mut counters) {
+        stats.add_work(counters);
+        match hit {
             Some((_, h)) => {
                 stats.hits += 1;
                 h.t()
             }
             None => f32::INFINITY,
-        };
-        stats.add_work(&counters);
-        t
+        }
     }
 
     /// The linear colour seen along the primary `ray` (unit direction).
     pub fn trace(&self, ray: &Ray, stats: &mut Stats) -> Vec3 {
+        self.trace_from(ray, None, stats)
+    }
+
+    /// The linear colour seen along a camera ray: its first hit found by
+    /// walking height fields along `cam.walk` (coherently with one
+    /// [`ColumnHint`] per field in `hints`; the colour is the same without),
+    /// everything else as [`trace`](Self::trace) along `cam.ray`.
+    pub fn trace_camera(
+        &self,
+        cam: &CameraRay,
+        hints: Option<&mut [ColumnHint]>,
+        stats: &mut Stats,
+    ) -> Vec3 {
+        self.trace_from(&cam.ray, Some((cam, hints)), stats)
+    }
+
+    fn trace_from(
+        &self,
+        ray: &Ray,
+        mut camera: Option<(&CameraRay, Option<&mut [ColumnHint]>)>,
+        stats: &mut Stats,
+    ) -> Vec3 {
         let mut counters = Counters::default();
         let mut pending: Vec<Pending, PENDING_CAPACITY> = Vec::new();
         let _ = pending.push(Pending {
@@ -372,7 +469,17 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 Kind::Reflected => stats.reflected_rays += 1,
                 Kind::Transmitted => stats.transmitted_rays += 1,
             }
-            let Some(surface) = self.nearest(&p.ray, &mut counters) else {
+            let found = match camera.take() {
+                Some((cam, hints)) => {
+                    self.nearest_camera_local(cam, hints, &mut counters)
+                        .map(|(object, local)| Surface {
+                            object,
+                            hit: self.objects[object].placed.to_world(&cam.ray, &local),
+                        })
+                }
+                None => self.nearest(&p.ray, &mut counters),
+            };
+            let Some(surface) = found else {
                 colour += saturate(p.mult * self.background);
                 continue;
             };

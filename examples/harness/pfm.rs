@@ -6,7 +6,9 @@
 //! at its final place with a seek: row `r` (0 = top) goes to byte
 //! `header + (H−1−r)·W·4`. Memory is one row; the first row written (the
 //! top, stored last) extends the file to its full size, and every later row
-//! fills its own slot before it.
+//! fills its own slot before it. A writer made with
+//! [`PfmWriter::new_bottom_up`] takes rows bottom first, the file's own
+//! order (column coherence renders so).
 
 use std::fs::File;
 use std::io::{self, BufWriter, Read, Seek, SeekFrom, Write};
@@ -19,6 +21,7 @@ pub struct PfmWriter<W: Write + Seek> {
     height: u32,
     header_len: u64,
     rows_written: u32,
+    bottom_up: bool,
     bytes: Vec<u8>,
 }
 
@@ -40,7 +43,16 @@ impl PfmWriter<BufWriter<File>> {
 
 impl<W: Write + Seek> PfmWriter<W> {
     /// Writes the header at the sink's start.
-    pub fn new(mut out: W, width: u32, height: u32) -> io::Result<Self> {
+    pub fn new(out: W, width: u32, height: u32) -> io::Result<Self> {
+        Self::in_order(out, width, height, false)
+    }
+
+    /// [`new`](Self::new) for rows given bottom row first.
+    pub fn new_bottom_up(out: W, width: u32, height: u32) -> io::Result<Self> {
+        Self::in_order(out, width, height, true)
+    }
+
+    fn in_order(mut out: W, width: u32, height: u32, bottom_up: bool) -> io::Result<Self> {
         if width == 0 || height == 0 {
             return Err(invalid(format!("PFM of {width}x{height} pixels is empty")));
         }
@@ -53,6 +65,7 @@ impl<W: Write + Seek> PfmWriter<W> {
             height,
             header_len: header.len() as u64,
             rows_written: 0,
+            bottom_up,
             bytes: vec![0; width as usize * 4],
         })
     }
@@ -62,7 +75,8 @@ impl<W: Write + Seek> PfmWriter<W> {
         self.rows_written
     }
 
-    /// Writes the next row (top row first); `+inf` marks "nothing hit".
+    /// Writes the next row (top row first, or bottom row first for
+    /// [`new_bottom_up`](Self::new_bottom_up)); `+inf` marks "nothing hit".
     pub fn write_row(&mut self, row: &[f32]) -> io::Result<()> {
         if row.len() != self.width as usize {
             return Err(invalid(format!(
@@ -80,7 +94,11 @@ impl<W: Write + Seek> PfmWriter<W> {
         for (dst, v) in self.bytes.chunks_exact_mut(4).zip(row) {
             dst.copy_from_slice(&v.to_le_bytes());
         }
-        let slot = u64::from(self.height - 1 - self.rows_written);
+        let slot = u64::from(if self.bottom_up {
+            self.rows_written
+        } else {
+            self.height - 1 - self.rows_written
+        });
         let offset = self.header_len + slot * u64::from(self.width) * 4;
         self.out.seek(SeekFrom::Start(offset))?;
         self.out.write_all(&self.bytes)?;

@@ -4,7 +4,9 @@
 //!
 //! The writer puts the 18-byte header first, with the top-left origin
 //! (descriptor bit 5 set), so rows go out in the order the renderer makes
-//! them, top row first; memory is one row of BGR bytes.
+//! them, top row first; memory is one row of BGR bytes. A writer made with
+//! [`TgaWriter::new_bottom_up`] sets the bottom-left origin instead (bit 5
+//! clear), for rows rendered bottom-up (column coherence).
 
 use std::fs::File;
 use std::io::{self, BufWriter, Read, Write};
@@ -33,7 +35,16 @@ impl TgaWriter<BufWriter<File>> {
 impl<W: Write> TgaWriter<W> {
     /// Writes the header; sides must be within `1..=65535` (TGA stores
     /// them in 16 bits).
-    pub fn new(mut out: W, width: u32, height: u32) -> io::Result<Self> {
+    pub fn new(out: W, width: u32, height: u32) -> io::Result<Self> {
+        Self::with_origin(out, width, height, true)
+    }
+
+    /// [`new`](Self::new) for rows given bottom row first.
+    pub fn new_bottom_up(out: W, width: u32, height: u32) -> io::Result<Self> {
+        Self::with_origin(out, width, height, false)
+    }
+
+    fn with_origin(mut out: W, width: u32, height: u32, top_first: bool) -> io::Result<Self> {
         let (Ok(w), Ok(h)) = (u16::try_from(width), u16::try_from(height)) else {
             return Err(invalid(format!(
                 "TGA is limited to 65535x65535 pixels, {width}x{height} requested"
@@ -47,7 +58,8 @@ impl<W: Write> TgaWriter<W> {
         header[12..14].copy_from_slice(&w.to_le_bytes());
         header[14..16].copy_from_slice(&h.to_le_bytes());
         header[16] = 24; // bits per pixel
-        header[17] = 0x20; // top-left origin, no alpha bits
+                         // Top-left or bottom-left origin, no alpha bits.
+        header[17] = if top_first { 0x20 } else { 0 };
         out.write_all(&header)?;
         Ok(TgaWriter {
             out,
@@ -73,7 +85,8 @@ impl<W: Write> TgaWriter<W> {
         self.rows_written
     }
 
-    /// Writes the next row (top row first), given as RGB.
+    /// Writes the next row (top row first, or bottom row first for
+    /// [`new_bottom_up`](Self::new_bottom_up)), given as RGB.
     pub fn write_row(&mut self, row: &[[u8; 3]]) -> io::Result<()> {
         if row.len() != usize::from(self.width) {
             return Err(invalid(format!(

@@ -19,13 +19,16 @@
 //! in `[0, 1]`. The `f64` path runs on the same ray with the same
 //! bound and finiteness checks. The hierarchical walk over a skip pyramid
 //! gives the flat walk's bits, and so does `intersect_coherent` on a column
-//! of three rays sharing the ray's origin and `x`, `z` direction.
+//! of three rays sharing the ray's origin and `x`, `z` direction, and on
+//! an image column of the renderer's walk rays (`Camera::camera_ray`) of a
+//! level camera at the ray's origin.
 #![no_main]
 
 use arbitrary::Arbitrary;
 use hfray::glam::{DAffine3, DVec3, Vec3};
+use hfray::scene::CameraDesc;
 use hfray::{
-    ColumnHint, Counters, HeightConvention, HeightField, Ray, Samples, SkipGrid, SkipLayout,
+    Camera, ColumnHint, Counters, HeightConvention, HeightField, Ray, Samples, SkipGrid, SkipLayout,
     Transform, Traversal,
 };
 use libfuzzer_sys::fuzz_target;
@@ -417,6 +420,22 @@ fuzz_target!(|input: Input| {
                 same(&coherent, &flat.intersect(&r, t_min, t_max)),
                 "coherent walk differs from flat"
             );
+        }
+        // The renderer's walk rays (`Camera::camera_ray`) of a level
+        // camera at the ray's origin looking along its horizontal
+        // direction: one image column, bottom-up, coherent = flat.
+        let look_at = o + Vec3::new(dir.x, 0.0, dir.z);
+        let angle = Some(30.0 + (t_min.abs() % 1.0) * 120.0);
+        let desc = CameraDesc { location: o, look_at, angle, ..CameraDesc::default() };
+        if let Ok(camera) = Camera::new(&desc, 7, 9) {
+            let mut hint = ColumnHint::new();
+            let x = 0.5 + (dir.y.abs() % 1.0) * 6.0;
+            for py in (0..9).rev() {
+                let r = camera.camera_ray(x, py as f32 + 0.5).walk;
+                let coherent = hier.intersect_coherent(&r, 0.0, f32::INFINITY, &mut hint, &mut cc);
+                let plain = flat.intersect(&r, 0.0, f32::INFINITY);
+                assert!(same(&coherent, &plain), "coherent camera column differs from flat");
+            }
         }
         // The f64 path on the same ray.
         let mut c64 = Counters::default();

@@ -4,7 +4,9 @@
 //! tiny image in colour and the depth AOV. Nothing may panic or hang;
 //! a render that starts delivers every row in order; every pixel is
 //! finite (linear colour);
-//! depths are non-negative or +inf.
+//! depths are non-negative or +inf; the coherent renderer
+//! (`render_coherent`, `render_depth_coherent`, bottom-up with column
+//! hints) gives the same bits.
 //!
 //! Input: 8 bytes of settings (image width 1..=16, height 1..=12, aa
 //! 1..=3, field width and depth 2..=17, three bytes shaping the samples),
@@ -14,9 +16,11 @@
 use std::ops::ControlFlow;
 
 use hfray::pixel::LinearRgb;
-use hfray::render::{render, render_depth, RenderSettings};
+use hfray::render::{
+    render, render_coherent, render_depth, render_depth_coherent, RenderSettings, RowOrder,
+};
 use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
-use hfray::{HeightConvention, HeightField, Samples};
+use hfray::{ColumnHint, HeightConvention, HeightField, Samples};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -53,14 +57,25 @@ fuzz_target!(|data: &[u8]| {
 
     let mut line = vec![LinearRgb::default(); width as usize];
     let mut next = 0u32;
+    let mut image = Vec::new();
     let result = render(&scene, &fields, &settings, &mut line, &mut |y, row| {
         assert_eq!(y, next, "rows out of order");
         next += 1;
         for p in row {
             assert!(p.0.is_finite(), "pixel {:?} in row {y}", p.0);
         }
+        image.push(bits(row.iter().map(|p| p.0)));
         ControlFlow::Continue(())
     });
+    // The coherent renderer, bottom-up, gives the same bits.
+    let bottom_up = settings.clone().with_order(RowOrder::BottomUp);
+    let mut hints = vec![ColumnHint::new(); bottom_up.column_hints_needed(fields.len())];
+    let mut sink = |y: u32, row: &[LinearRgb]| {
+        assert_eq!(image[y as usize], bits(row.iter().map(|p| p.0)), "coherent row {y} differs");
+        ControlFlow::Continue(())
+    };
+    let coherent = render_coherent(&scene, &fields, &bottom_up, &mut line, &mut hints, &mut sink);
+    assert_eq!(coherent.is_ok(), result.is_ok());
     if let Ok(stats) = result {
         assert_eq!(stats.rows, height);
         assert_eq!(next, height);
@@ -69,19 +84,35 @@ fuzz_target!(|data: &[u8]| {
 
     let mut depth_line = vec![0f32; width as usize];
     let mut rows = 0u32;
+    let mut depths = Vec::new();
     let result = render_depth(&scene, &fields, &settings, &mut depth_line, &mut |_, row| {
         rows += 1;
         for &d in row {
             assert!(d >= 0.0, "depth {d}"); // NaN fails too
         }
+        depths.push(row.iter().map(|d| d.to_bits()).collect::<Vec<_>>());
         ControlFlow::Continue(())
     });
     if result.is_ok() {
         assert_eq!(rows, height);
     }
+    hints.fill(ColumnHint::new());
+    let mut sink = |y: u32, row: &[f32]| {
+        let row: Vec<u32> = row.iter().map(|d| d.to_bits()).collect();
+        assert_eq!(depths[y as usize], row, "coherent depth row {y} differs");
+        ControlFlow::Continue(())
+    };
+    let coherent =
+        render_depth_coherent(&scene, &fields, &bottom_up, &mut depth_line, &mut hints, &mut sink);
+    assert_eq!(coherent.is_ok(), result.is_ok());
 });
 
 /// One field per `field_index`, built like the harness's `build_fields`.
+/// A row's colours as bit patterns.
+fn bits(row: impl Iterator<Item = hfray::glam::Vec3>) -> Vec<[u32; 3]> {
+    row.map(|c| c.to_array().map(f32::to_bits)).collect()
+}
+
 fn fields<'a>(
     scene: &Scene<'_, 16, 4>,
     samples: &'a [u8],

@@ -435,7 +435,8 @@ impl<'s> Renderer<'s> {
     }
 
     /// Renders the frame; see [`render`]. Bounds: `HEIGHT × WIDTH` pixels,
-    /// each one `Tracer::trace` (itself bounded by hfray).
+    /// each one `Tracer::trace_camera` (itself bounded by hfray), as
+    /// `hfray::render` traces it.
     pub fn render<E>(
         &self,
         mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
@@ -445,8 +446,8 @@ impl<'s> Renderer<'s> {
         let mut bytes = [0u8; LINE_BYTES];
         for y in 0..HEIGHT {
             for (x, px) in line.iter_mut().enumerate() {
-                let ray = self.camera.pixel_ray(x as u32, y as u32);
-                let c = self.tracer.trace(&ray, &mut stats);
+                let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                let c = self.tracer.trace_camera(&ray, None, &mut stats);
                 *px = Rgb888::from_linear(c, x as u32, y as u32);
             }
             stats.rows += 1;
