@@ -195,7 +195,7 @@ impl Camera {
         match self.projection {
             Projection::Perspective => {
                 let d = self.direction + self.right * x0 + self.up * y0;
-                Ray::new(self.location, d.normalize_or_zero())
+                Ray::new(self.location, crate::math::normalize_or_zero(d))
             }
             Projection::Orthographic => {
                 Ray::new(self.location + self.right * x0 + self.up * y0, self.view)

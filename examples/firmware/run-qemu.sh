@@ -19,6 +19,11 @@
 #                                      the minimal M0 build (no secondary rays): the
 #                                      base frame, and reflect-5 refused with NotBuilt
 # `--base` runs the base scene of the height-field-only build only.
+# `--profile` also prints, under each run's line, the functions that
+# executed the most instructions (`PROFILE_TOP`, default 12), symbolised
+# from the run's ELF (tools/qemu-insn-count/by_symbol.py; needs python3
+# and nm):
+#   profile T:  N  P%  FUNCTION
 #
 # Exits non-zero if a tool or target is missing (saying which), a build or
 # run fails, or any frame differs from the host's (checksum and bytes) or
@@ -34,14 +39,19 @@
 set -euo pipefail
 
 all=1
-case "${1:-}" in
-"") ;;
---base) all=0 ;;
-*)
-    echo "usage: run-qemu.sh [--base]" >&2
-    exit 2
-    ;;
-esac
+profile=0
+for arg in "$@"; do
+    case "$arg" in
+    --base) all=0 ;;
+    --profile) profile=1 ;;
+    *)
+        echo "usage: run-qemu.sh [--base] [--profile]" >&2
+        exit 2
+        ;;
+    esac
+done
+# Functions listed per run by --profile.
+profile_top="${PROFILE_TOP:-12}"
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -50,12 +60,14 @@ run_timeout="${RUN_TIMEOUT:-600}"
 
 # --- what is needed, and is it here? -------------------------------------
 missing=()
-for tool in cargo gcc readelf cmp timeout qemu-system-arm qemu-i386; do
+tools=(cargo gcc readelf cmp timeout qemu-system-arm qemu-i386)
+((profile)) && tools+=(python3 nm)
+for tool in "${tools[@]}"; do
     if ! command -v "$tool" >/dev/null 2>&1; then
         case "$tool" in
         qemu-system-arm) missing+=("qemu-system-arm (apt-get install -y qemu-system-arm)") ;;
         qemu-i386) missing+=("qemu-i386 (apt-get install -y qemu-user)") ;;
-        readelf) missing+=("readelf (apt-get install -y binutils)") ;;
+        readelf | nm) missing+=("$tool (apt-get install -y binutils)") ;;
         *) missing+=("$tool") ;;
         esac
     fi
@@ -160,6 +172,13 @@ image_bytes() {
     done
     echo "$sum"
 }
+# profile LABEL DUMP ELF: with --profile, the run's top functions by
+# executed instructions.
+profile() {
+    ((profile)) || return 0
+    python3 "$here/tools/qemu-insn-count/by_symbol.py" "$2" "$3" nm "$profile_top" |
+        tail -n +2 | sed "s|^|profile $1: |"
+}
 # The work counters every program prints; they must equal the host's.
 work_keys=(hits reflected_rays shadow_rays shadow_hits cells triangle_tests dropped_rays)
 work() {
@@ -252,6 +271,7 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
             "model_bytes=$(field model_bytes "$line") heightfield_bytes=$(field heightfield_bytes "$line")" \
             "tracer_bytes=$(field tracer_bytes "$line") line_bytes=$(field line_bytes "$line")" \
             "scene=$scene build=$build $(work "$line")"
+        profile "$t" "$out/insns-$tag.txt" "$elf"
     done
 done
 
@@ -278,6 +298,7 @@ if ((all)); then
             echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[base]}" \
                 "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
                 "instructions=${insns:-?} image_bytes=$(image_bytes "$elf") scene=base build=minimal $(work "$line")"
+            profile "$t" "$out/insns-$tag.txt" "$elf"
         elif [[ "$line" == *"error=render:NotBuilt"* ]]; then
             echo "target=$t refused=NotBuilt scene=$scene build=minimal"
         else
@@ -328,6 +349,7 @@ for r in "${runs[@]}"; do
         "native_8MiB_checksum=$(field frame_checksum "$native") vm_peak_kib=$(field vm_peak_kib "$native")" \
         "vm_hwm_kib=$(field vm_hwm_kib "$native") max_rss_kib=${rss:-?}" \
         "scene=$scene build=$build $(work "$line")"
+    profile "$t" "$out/insns-$tag.txt" "$i486_bin"
 done
 
 if ((status)); then
