@@ -15,6 +15,11 @@
 #   T+full, T+full:plane-1, T+full:plane-5
 #                                      the `full` build (hfray's primitives): its .text,
 #                                      and a reflective plane under the field at depth 1, 5
+#   T:lcd                              160 × 128 RGB565 (ST7735), Rocky Mountain 152 × 187
+#   T:thesis                           the thesis benchmark, 512² plasma at 320 × 200
+#                                      (Cortex-M4F and i486; not in the micro:bit's flash)
+#   thumbv7em-none-eabihf/mps2-an386:sqrt-check
+#                                      vsqrt.f32 against libm's sqrtf over 2^20 inputs
 #   thumbv6m-none-eabi/microbit-minimal[:reflect-5]
 #                                      the minimal M0 build (no secondary rays): the
 #                                      base frame, and reflect-5 refused with NotBuilt
@@ -198,7 +203,7 @@ host() {
     [[ -n "${host_sum[$scene]}" ]] || { echo "run-qemu.sh: no host checksum in: $line" >&2; exit 1; }
 }
 scenes=(base)
-((all)) && scenes+=(reflect-1 reflect-5 plane-1 plane-5)
+((all)) && scenes+=(reflect-1 reflect-5 plane-1 plane-5 lcd thesis)
 for s in "${scenes[@]}"; do host "$s"; done
 cp "$out/frame-host-base.ppm" "$out/frame-host.ppm"
 
@@ -238,7 +243,7 @@ frame_name() {
 scratch="$out/scratch"
 # The runs: build (hf = height-field only, full) and scene.
 runs=("hf base")
-((all)) && runs+=("hf reflect-1" "hf reflect-5" "full base" "full plane-1" "full plane-5")
+((all)) && runs+=("hf reflect-1" "hf reflect-5" "full base" "full plane-1" "full plane-5" "hf lcd" "hf thesis")
 
 # --- Cortex-M under qemu-system-arm ----------------------------------------
 for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
@@ -246,6 +251,8 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
     board="${pair##*:}"
     for r in "${runs[@]}"; do
         read -r build scene <<<"$r"
+        # The thesis field (256 KiB) does not fit the micro:bit's flash.
+        [[ "$board" == microbit && "$scene" == thesis ]] && continue
         if [[ "$build" == full ]]; then elf="$fw_full_dir/$triple/release/hfray-firmware"; else elf="$fw_dir/$triple/release/hfray-firmware"; fi
         t="$(label "$triple/$board" "$build" "$scene")"
         tag="$board-$build-$scene"
@@ -274,6 +281,19 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
         profile "$t" "$out/insns-$tag.txt" "$elf"
     done
 done
+
+# --- hardware square root: vsqrt.f32 against libm, bit for bit ----------------
+# The Cortex-M4F firmware's `sqrt-check` compares hfray::math::sqrtf
+# (`vsqrt.f32`) with libm's software sqrtf over 2^20 inputs.
+elf="$fw_dir/thumbv7em-none-eabihf/release/hfray-firmware"
+t="thumbv7em-none-eabihf/mps2-an386:sqrt-check"
+line="$(cd "$out" && timeout "$run_timeout" qemu-system-arm -machine mps2-an386 -nographic \
+    -semihosting-config "enable=on,target=native,arg=hfray-firmware,arg=sqrt-check" -kernel "$elf")" || true
+if [[ "$(field sqrt_mismatches "$line")" == 0 && -n "$(field sqrt_checked "$line")" ]]; then
+    echo "target=$t sqrt_checked=$(field sqrt_checked "$line") sqrt_mismatches=0"
+else
+    fail "$t: hardware sqrt differs from libm's: $line"
+fi
 
 # --- minimal M0 build: the same base frame; a mirror scene is refused -------
 # Built without `secondary-rays`, the firmware must draw the base frame
