@@ -10,8 +10,8 @@
 //! Cortex-M with a few hundred KiB. It follows and extends F. J. Figueroa's
 //! 1996 master's thesis (UFRGS) on ray tracing height fields.
 //!
-//! The core is `#![no_std]`, uses no `alloc` and no `unsafe` but one
-//! instruction (the hardware square root in [`math`], measured and tested
+//! The core is `#![no_std]`, uses no `alloc` and no `unsafe` but the
+//! hardware square root (`vsqrt.f32`, `fsqrt`; [`math`], measured and tested
 //! there), never panics
 //! on bad input (every error says where and why), and bounds every loop.
 //! Its only dependencies are `libm`, `heapless` and `glam`.
@@ -274,7 +274,7 @@
 //! - `std`: enables nothing yet (reserved for `std::error::Error` impls);
 //!   the core never needs it.
 #![no_std]
-// `deny`, not `forbid`: `math::sqrtf` allows it for `vsqrt.f32` alone.
+// `deny`, not `forbid`: `math::sqrtf` allows it for `vsqrt.f32` and `fsqrt`.
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 // `!(a <= b)` is how this crate rejects NaN along with out-of-range values;

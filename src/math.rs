@@ -25,7 +25,8 @@ pub fn sqrtf(x: f32) -> f32 {
 // Measured (QEMU instruction counts, Cortex-M4F, issue 14): libm's software
 // sqrtf ran 76 instructions per call (74,219 calls, 11.8% of the 96×64
 // firmware frame);
-// this is three (`bl`, `vsqrt.f32`, `bx lr`). The only `unsafe` in the core;
+// this is three (`bl`, `vsqrt.f32`, `bx lr`). With `fsqrt` below, the only
+// `unsafe` in the core;
 // `tests::sqrtf_matches_libm_bit_for_bit` and the firmware's own check under
 // QEMU (`sqrt_mismatches=0`) cover it.
 //
@@ -66,7 +67,39 @@ fn hardware_sqrtf(x: f32) -> f32 {
     unsafe { hfray_vsqrt_f32(x) }
 }
 
-#[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+// Measured (QEMU, i486 firmware frame, issue 14): libm's software sqrtf
+// was 16% of the 96×64 frame's instructions; `fsqrt` is one x87
+// instruction. Loaded and stored as `f32`, the result is correctly rounded
+// whatever the x87 precision control says (53- or 64-bit rounding first,
+// then to 24 bits, is innocuous for a square root: 53 ≥ 2·24 + 2). Covered
+// by `tests::sqrtf_matches_libm_bit_for_bit` where it runs and by the i486
+// program's `sqrt-check` under `qemu-i386 -cpu 486` (`sqrt_mismatches=0`).
+#[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+#[allow(unsafe_code)]
+#[inline(always)]
+fn hardware_sqrtf(x: f32) -> f32 {
+    let mut v = x;
+    // SAFETY: reads and writes the local `v` through its address; all
+    // eight x87 registers are declared clobbered, so the x87 stack is empty
+    // on entry, and `fld`/`fstp` leave it empty again.
+    unsafe {
+        core::arch::asm!(
+            "fld dword ptr [{v}]",
+            "fsqrt",
+            "fstp dword ptr [{v}]",
+            v = in(reg) &mut v,
+            out("st(0)") _, out("st(1)") _, out("st(2)") _, out("st(3)") _,
+            out("st(4)") _, out("st(5)") _, out("st(6)") _, out("st(7)") _,
+            options(nostack),
+        );
+    }
+    v
+}
+
+#[cfg(not(any(
+    all(target_arch = "arm", target_abi = "eabihf"),
+    all(target_arch = "x86", not(target_feature = "sse"))
+)))]
 #[inline(always)]
 fn hardware_sqrtf(x: f32) -> f32 {
     libm::sqrtf(x)

@@ -18,8 +18,9 @@
 #   T:lcd                              160 × 128 RGB565 (ST7735), Rocky Mountain 152 × 187
 #   T:thesis                           the thesis benchmark, 512² plasma at 320 × 200
 #                                      (Cortex-M4F and i486; not in the micro:bit's flash)
-#   thumbv7em-none-eabihf/mps2-an386:sqrt-check
-#                                      vsqrt.f32 against libm's sqrtf over 2^20 inputs
+#   thumbv7em-none-eabihf/mps2-an386:sqrt-check, i586-unknown-linux-gnu/i486:sqrt-check
+#                                      vsqrt.f32 / fsqrt against libm's sqrtf over 2^20
+#                                      inputs (the 486 at three x87 precisions)
 #   thumbv6m-none-eabi/microbit-minimal[:reflect-5]
 #                                      the minimal M0 build (no secondary rays): the
 #                                      base frame, and reflect-5 refused with NotBuilt
@@ -371,6 +372,16 @@ for r in "${runs[@]}"; do
         "scene=$scene build=$build $(work "$line")"
     profile "$t" "$out/insns-$tag.txt" "$i486_bin"
 done
+
+# fsqrt against libm on the 486, at the x87 precision of the render, the
+# setup and the reset default.
+t="i586-unknown-linux-gnu/i486:sqrt-check"
+line="$(cd "$out" && timeout "$run_timeout" qemu-i386 -cpu 486 "$i486_dir/i586-unknown-linux-gnu/release/hfray-i486" sqrt-check)" || true
+if [[ "$(field sqrt_mismatches "$line")" == 0 && -n "$(field sqrt_checked "$line")" ]]; then
+    echo "target=$t sqrt_checked=$(field sqrt_checked "$line") sqrt_mismatches=0"
+else
+    fail "$t: hardware sqrt differs from libm's: $line"
+fi
 
 if ((status)); then
     echo "run-qemu.sh: FAILED (outputs in $out)" >&2

@@ -340,6 +340,9 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     // Setup (f64 inside the core: transform composition and inverses).
     set_x87_precision(0b10);
     let arg = last_argument(entry_sp);
+    if arg == b"sqrt-check" {
+        check_sqrt()
+    }
     let variant = if arg.is_empty() {
         scene::Variant::Base
     } else {
@@ -437,6 +440,38 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     let _ = scene::write_work(&mut Stdout, &stats);
     let _ = Stdout.write_str("\n");
     exit(0)
+}
+
+/// Inputs [`check_sqrt`] compares per precision setting: every 4093rd
+/// bit pattern, so all exponents, signs, subnormals, infinities and NaNs
+/// are among them.
+const SQRT_CHECKS: u32 = 1 << 20;
+
+/// The `sqrt-check` run: `hfray::math::sqrtf` (`fsqrt` here) against
+/// `libm::sqrtf`, bit for bit, under the x87 precision settings of the
+/// render (24 bits), the setup (53) and the reset default (64); prints
+/// `sqrt_checked=N sqrt_mismatches=M` and exits, non-zero on any mismatch.
+fn check_sqrt() -> ! {
+    let mut mismatches = 0u32;
+    for pc in [0b00, 0b10, 0b11] {
+        set_x87_precision(pc);
+        let mut bits = 0u32;
+        for _ in 0..SQRT_CHECKS {
+            let x = core::hint::black_box(f32::from_bits(bits));
+            let (ours, reference) = (hfray::math::sqrtf(x), libm::sqrtf(x));
+            if ours.to_bits() != reference.to_bits() && !(ours.is_nan() && reference.is_nan()) {
+                mismatches += 1;
+            }
+            bits = bits.wrapping_add(4093);
+        }
+    }
+    set_x87_precision(0b10);
+    let _ = writeln!(
+        Stdout,
+        "board=i486 scene=sqrt-check sqrt_checked={} sqrt_mismatches={mismatches}",
+        3 * SQRT_CHECKS
+    );
+    exit(if mismatches == 0 { 0 } else { 1 })
 }
 
 #[panic_handler]
