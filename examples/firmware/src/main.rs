@@ -1,5 +1,5 @@
 //! hfray on bare metal: a cortex-m-rt application that renders the scene of
-//! `scene.rs` (Maunga Whau, 96 × 64, one light, shadows) with
+//! `scene.rs` (`base`: Maunga Whau, 96 × 64, one light, shadows; `lcd`, `thesis`, …) with
 //! `hfray::render` from a height field held in flash, streams every scanline
 //! to the host through semihosting, and reports the frame checksum and the
 //! stack high-water mark.
@@ -10,7 +10,10 @@
 //! `base` without one.
 //!
 //! No `std`, no allocator, no frame buffer: the only frame-sized state is one
-//! scanline (96 `Rgb888` pixels plus their 288 bytes) on the stack.
+//! row of `Rgb888` pixels (the board's widest frame) on the stack. The
+//! `lcd` pyramid, and on the Cortex-M4F the `thesis` field and pyramid, are
+//! in flash (`build.rs`). `sqrt-check` instead of a scene compares the
+//! hardware square root with libm's (`check_sqrt`).
 //!
 //! Boards (chosen by target in `build.rs`):
 //! - `thumbv6m-none-eabi`: BBC micro:bit (`qemu-system-arm -machine microbit`),

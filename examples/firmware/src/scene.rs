@@ -7,14 +7,16 @@
 //! - the freestanding i486 program (`examples/firmware/i486/src/main.rs`).
 //!
 //! It uses only `core` and `hfray`: no allocation, no frame buffer. The frame
-//! is handed out one scanline (`WIDTH * 3` RGB bytes) at a time.
+//! is handed out one pixel (three RGB bytes) at a time, row 0 first.
 //!
 //! Several scenes ([`Variant`], chosen at run time by name so one binary
 //! renders them all with the same code): the issue-5 frame (`base`), the
 //! field as a mirror at `max_trace_level` 1 and 5 (`reflect-1`,
-//! `reflect-5`), and, in builds with the `primitives` feature, the field
-//! over a reflective plane (`plane-1`, `plane-5`), so the analytic-shape
-//! code is really linked and exercised.
+//! `reflect-5`), in builds with the `primitives` feature the field over a
+//! reflective plane (`plane-1`, `plane-5`), so the analytic-shape code is
+//! really linked and exercised, and two frames at real sizes ([`FrameKind`]):
+//! `lcd` (160 × 128 RGB565 for an ST7735 panel, a 152 × 187 DEM) and
+//! `thesis` (the thesis's 512² benchmark at 320 × 200).
 //!
 //! The scene is a [`hfray::scene::model::Scene`] (the model the parser
 //! fills), rendered by hfray's own renderer: [`render`] calls
