@@ -47,6 +47,7 @@ fn main() -> ExitCode {
             out = Some(arg);
         }
     }
+    let kind = variant.kind();
     let scene_model = match scene::build_scene(variant) {
         Ok(s) => s,
         Err(e) => {
@@ -54,54 +55,43 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = match scene::build_field(&scene_model, &mut skip) {
+    // Every field's pyramid is built here (the Cortex-M builds take the
+    // larger ones from flash, built by build.rs with the same code).
+    let mut thesis = vec![0u8; scene::THESIS_SAMPLES];
+    let (samples, size): (&[u8], _) = match kind {
+        scene::FrameKind::Small => (
+            &scene::FIELD_SAMPLES,
+            (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
+        ),
+        scene::FrameKind::Lcd => (
+            &scene::LCD_FIELD_SAMPLES,
+            (scene::LCD_FIELD_WIDTH, scene::LCD_FIELD_DEPTH),
+        ),
+        scene::FrameKind::Thesis => {
+            // Generated at run time, as the i486 program does.
+            if let Err(e) = scene::thesis_field(&mut thesis) {
+                eprintln!("firmware_host: cannot generate the thesis field: {e:?}");
+                return ExitCode::FAILURE;
+            }
+            (&thesis, (scene::THESIS_SIDE, scene::THESIS_SIDE))
+        }
+    };
+    let mut pyramid = vec![0u8; scene::THESIS_SKIP_BYTES];
+    let pyramid = scene::Pyramid::Build(&mut pyramid);
+    let fields = match scene::build_field(&scene_model, samples, size, pyramid) {
         Ok(f) => [f],
         Err(e) => {
             eprintln!("firmware_host: cannot build the height field: {e:?}");
             return ExitCode::FAILURE;
         }
     };
-
-    // 1. hfray::render, as on the Cortex-M targets.
-    let mut frame = Vec::with_capacity(scene::PPM_HEADER.len() + scene::HEIGHT * scene::LINE_BYTES);
-    frame.extend_from_slice(scene::PPM_HEADER);
-    let mut hash = scene::Fnv1a::default();
-    let stats = match scene::render(&scene_model, &fields, |_, line| {
-        hash.update(line);
-        frame.extend_from_slice(line);
-        Ok::<(), ()>(())
-    }) {
-        Ok(s) => s,
+    let (frame, hash, stats) = match render_both(kind, &scene_model, &fields) {
+        Ok(r) => r,
         Err(e) => {
-            eprintln!("firmware_host: render failed: {e:?}");
+            eprintln!("firmware_host: {e}");
             return ExitCode::FAILURE;
         }
     };
-
-    // 2. The split renderer, as on the i486.
-    let mut split_hash = scene::Fnv1a::default();
-    let split = scene::Renderer::new(&scene_model, &fields).map(|r| {
-        r.render(|_, line| {
-            split_hash.update(line);
-            Ok::<(), ()>(())
-        })
-    });
-    let split_stats = match split {
-        Ok(Ok(s)) => s,
-        _ => {
-            eprintln!("firmware_host: the split renderer failed");
-            return ExitCode::FAILURE;
-        }
-    };
-    if split_hash.0 != hash.0 || split_stats != stats {
-        eprintln!(
-            "firmware_host: the split renderer's frame ({:08x}, {split_stats:?}) differs from \
-             hfray::render's ({:08x}, {stats:?})",
-            split_hash.0, hash.0
-        );
-        return ExitCode::FAILURE;
-    }
 
     if let Some(path) = out {
         if let Err(e) = std::fs::File::create(&path).and_then(|mut f| f.write_all(&frame)) {
@@ -118,4 +108,44 @@ fn main() -> ExitCode {
         variant.name()
     );
     ExitCode::SUCCESS
+}
+
+/// Renders with both renderers; the PPM bytes, checksum and counters of
+/// `hfray::render`'s frame, or why the two differ.
+fn render_both(
+    kind: scene::FrameKind,
+    scene_model: &scene::FirmwareScene,
+    fields: &[hfray::HeightField<'_>],
+) -> Result<(Vec<u8>, scene::Fnv1a, hfray::Stats), String> {
+    // 1. hfray::render, as on the Cortex-M targets.
+    let (width, height) = kind.size();
+    let mut frame = Vec::with_capacity(kind.ppm_header().len() + height * width * 3);
+    frame.extend_from_slice(kind.ppm_header());
+    let mut hash = scene::Fnv1a::default();
+    let mut line = vec![hfray::Rgb888::default(); width];
+    let stats = scene::render(kind, scene_model, fields, &mut line, |px| {
+        hash.update(px);
+        frame.extend_from_slice(px);
+        Ok::<(), ()>(())
+    })
+    .map_err(|e| format!("render failed: {e:?}"))?;
+
+    // 2. The split renderer, as on the i486.
+    let mut split_hash = scene::Fnv1a::default();
+    let split = scene::Renderer::new(kind, scene_model, fields)
+        .map_err(|e| format!("split renderer setup failed: {e:?}"))?;
+    let split_stats = split
+        .render(|px| {
+            split_hash.update(px);
+            Ok::<(), ()>(())
+        })
+        .map_err(|_| "the split renderer failed".to_string())?;
+    if split_hash.0 != hash.0 || split_stats != stats {
+        return Err(format!(
+            "the split renderer's frame ({:08x}, {split_stats:?}) differs from \
+             hfray::render's ({:08x}, {stats:?})",
+            split_hash.0, hash.0
+        ));
+    }
+    Ok((frame, hash, stats))
 }

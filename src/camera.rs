@@ -206,7 +206,9 @@ impl Camera {
     pub fn ray(&self, x: f32, y: f32) -> Ray {
         let walk = self.walk_ray(x, y);
         match self.projection {
-            Projection::Perspective => Ray::new(walk.origin, walk.direction.normalize_or_zero()),
+            Projection::Perspective => {
+                Ray::new(walk.origin, crate::math::normalize_or_zero(walk.direction))
+            }
             Projection::Orthographic => walk,
         }
     }
@@ -252,9 +254,9 @@ impl Camera {
         let walk = self.walk_ray(x, y);
         match self.projection {
             Projection::Perspective => CameraRay {
-                ray: Ray::new(walk.origin, walk.direction.normalize_or_zero()),
+                ray: Ray::new(walk.origin, crate::math::normalize_or_zero(walk.direction)),
                 walk,
-                length: walk.direction.length(),
+                length: crate::math::length(walk.direction),
             },
             Projection::Orthographic => CameraRay {
                 ray: walk,

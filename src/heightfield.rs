@@ -823,49 +823,52 @@ impl<'a> HeightField<'a> {
         if !self.has_cell(x, z) {
             return hit.normal;
         }
-        let n00 = self.vertex_normal_world(x, z);
-        let n10 = self.vertex_normal_world(x + 1, z);
-        let n01 = self.vertex_normal_world(x, z + 1);
-        let n11 = self.vertex_normal_world(x + 1, z + 1);
+        let around = Neighbourhood::new(self, x, z);
+        let n00 = self.vertex_normal_world(&around, 0, 0);
+        let n10 = self.vertex_normal_world(&around, 1, 0);
+        let n01 = self.vertex_normal_world(&around, 0, 1);
+        let n11 = self.vertex_normal_world(&around, 1, 1);
         let (u, v) = (1.0 - fu, 1.0 - fv);
         let n = (n00 * u + n10 * fu) * v + (n01 * u + n11 * fu) * fv;
-        n.normalize_or_zero()
+        crate::math::normalize_or_zero(n)
     }
 
-    /// A vertex normal as POV-Ray stores it: raw field space, quantised to
-    /// `i16` steps (returned as `f32` integers).
-    fn vertex_normal_raw(&self, x: u32, z: u32) -> Vec3 {
-        let h0 = self.height_units(x, z) as f32;
-        let h = |x: i64, z: i64| -> Option<f32> {
-            if x < 0 || z < 0 || x >= self.width as i64 || z >= self.depth as i64 {
-                None
-            } else {
-                Some(self.height_units(x as u32, z as u32) as f32)
+    /// Vertex `(x + a, z + b)` of the neighbourhood's cell: its normal as
+    /// POV-Ray stores it (raw field space, quantised to `i16` steps), carried
+    /// to world space and normalised.
+    fn vertex_normal_world(&self, around: &Neighbourhood, a: usize, b: usize) -> Vec3 {
+        let (i, j) = (a + 1, b + 1);
+        let h0 = around.height[j][i];
+        // One of POV-Ray's quadrants: `(-du, 1, -dv)` normalised, where `du`,
+        // `dv` are the height steps along its two edges, signed by its
+        // direction; zero for a quadrant reaching past the grid's edge.
+        // `(h − h0) · s` for a step `s` of ±1 is `h − h0` or `h0 − h`,
+        // exactly. Called with constant steps, so it unrolls.
+        let quadrant = |step_x: usize, step_z: usize, up_x: bool, up_z: bool| {
+            // In 0..4 (`i`, `j` are 1 or 2); `& 3` tells the compiler so.
+            let (xi, zj) = (i.wrapping_add(step_x) & 3, j.wrapping_add(step_z) & 3);
+            if !(around.inside_x[xi] && around.inside_z[zj]) {
+                return Vec3::ZERO;
             }
+            let (hx, hz) = (around.height[j][xi], around.height[zj][i]);
+            let du = if up_x { hx - h0 } else { h0 - hx };
+            let dv = if up_z { hz - h0 } else { h0 - hz };
+            crate::math::normalize(Vec3::new(-du, 1.0, -dv))
         };
-        let (xi, zi) = (x as i64, z as i64);
-        let mut sum = Vec3::ZERO;
-        // POV-Ray's four quadrants: (+x, +z), (+z, -x), (-x, -z), (-z, +x).
-        for (sx, sz) in [(1i64, 1i64), (-1, 1), (-1, -1), (1, -1)] {
-            let (Some(hx), Some(hz)) = (h(xi + sx, zi), h(xi, zi + sz)) else {
-                continue;
-            };
-            let du = (hx - h0) * sx as f32;
-            let dv = (hz - h0) * sz as f32;
-            sum += Vec3::new(-du, 1.0, -dv).normalize();
-        }
-        let n = sum.normalize_or_zero();
-        // C's (short) conversion truncates towards zero, as `as i16` does.
-        let q = |c: f32| (32767.0 * c) as i16 as f32;
-        Vec3::new(q(n.x), q(n.y), q(n.z))
-    }
-
-    /// A vertex normal carried to world space and normalised.
-    fn vertex_normal_world(&self, x: u32, z: u32) -> Vec3 {
-        let q = self.vertex_normal_raw(x, z);
+        // POV-Ray's order: (+x, +z), (+z, -x), (-x, -z), (-z, +x); a step
+        // of −1 is `usize::MAX` (wrapping). Adding a zero changes no sum.
+        let back = usize::MAX;
+        let sum = quadrant(1, 1, true, true)
+            + quadrant(back, 1, false, true)
+            + quadrant(back, back, false, false)
+            + quadrant(1, back, true, false);
+        let n = crate::math::normalize_or_zero(sum);
+        // C's (short) conversion truncates towards zero. `32767 · c` is
+        // within ±32767.01 (`n` is unit or zero), where `as i32` truncates
+        // the same and is one instruction (`as i16` adds its saturation).
+        let q = |c: f32| (32767.0 * c) as i32 as f32;
         // Raw → grid space scales y by 1/65536; normals take the inverse.
-        let grid = Vec3::new(q.x, q.y * 65536.0, q.z);
-        self.grid_normal_to_world(grid)
+        self.grid_normal_to_world(Vec3::new(q(n.x), q(n.y) * 65536.0, q(n.z)))
     }
 
     /// The thesis's palette colouring: the mean of the palette colours of
@@ -913,6 +916,45 @@ impl<'a> HeightField<'a> {
             max = max.max(w);
         }
         (min.as_vec3(), max.as_vec3())
+    }
+}
+
+/// The heights around one cell, read once for its four vertex normals:
+/// the 4 × 4 vertices `x − 1 ..= x + 2` by `z − 1 ..= z + 2` (the corners
+/// are never needed and not read), in height units (1/65536) as `f32`
+/// (exact: at most 2^24). Rows and columns past the grid's edge are marked
+/// outside; their heights are placeholders.
+struct Neighbourhood {
+    /// `height[j][i]`: vertex `(x − 1 + i, z − 1 + j)`.
+    height: [[f32; 4]; 4],
+    /// Column `x − 1 + i` is in the grid.
+    inside_x: [bool; 4],
+    /// Row `z − 1 + j` is in the grid.
+    inside_z: [bool; 4],
+}
+
+impl Neighbourhood {
+    /// The neighbourhood of cell `(x, z)`, which must be in the grid.
+    #[inline(always)]
+    fn new(field: &HeightField<'_>, x: u32, z: u32) -> Self {
+        let last = |i: u32, n: u32| i.min(n - 1);
+        let xs = [x.saturating_sub(1), x, x + 1, last(x + 2, field.width)];
+        let zs = [z.saturating_sub(1), z, z + 1, last(z + 2, field.depth)];
+        let at = |i: usize, j: usize| field.height_units(xs[i], zs[j]) as f32;
+        let mut height = [[0.0; 4]; 4];
+        for (j, row) in height.iter_mut().enumerate() {
+            for (i, h) in row.iter_mut().enumerate() {
+                // The four corners are no vertex's neighbours.
+                if !((i == 0 || i == 3) && (j == 0 || j == 3)) {
+                    *h = at(i, j);
+                }
+            }
+        }
+        Neighbourhood {
+            height,
+            inside_x: [x > 0, true, true, x + 2 < field.width],
+            inside_z: [z > 0, true, true, z + 2 < field.depth],
+        }
     }
 }
 

@@ -544,7 +544,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 if r.dot(ng) < 0.0 {
                     r = d - ng * (2.0 * d.dot(ng));
                 }
-                let r = r.normalize_or_zero();
+                let r = crate::math::normalize_or_zero(r);
                 let origin = self.offset(obj, hit, r);
                 let child = Pending {
                     ray: Ray::new(origin, r),
@@ -615,7 +615,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         counters: &mut Counters,
     ) -> Vec3 {
         let to_light = light.position - hit.point;
-        let dist = to_light.length();
+        let dist = crate::math::length(to_light);
         if !(dist > 0.0 && dist.is_finite()) {
             return Vec3::ZERO;
         }
@@ -642,7 +642,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         }
         if finish.specular > 0.0 {
             let h = (l - d) * 0.5;
-            let hl = h.length();
+            let hl = crate::math::length(h);
             if hl > 0.0 {
                 let c = h.dot(n) / hl;
                 if c > 0.0 {

@@ -156,11 +156,11 @@ pub fn normal_matrix(linear: &DMat3) -> Mat3 {
 pub fn unit_direction(w: Vec3) -> Vec3 {
     let len2 = w.length_squared();
     if len2.is_finite() && len2 >= 1e-30 {
-        return w.normalize_or_zero();
+        return crate::math::normalize_or_zero(w);
     }
     let largest = w.abs().max_element();
     if largest > 0.0 && largest.is_finite() {
-        (w / largest).normalize_or_zero()
+        crate::math::normalize_or_zero(w / largest)
     } else {
         Vec3::ZERO
     }

@@ -1,8 +1,29 @@
 //! Picks the board's memory map from the target and puts it where
-//! cortex-m-rt's `link.x` looks for `memory.x`.
-use std::{env, fs, path::PathBuf};
+//! cortex-m-rt's `link.x` looks for `memory.x`, and precomputes into
+//! `OUT_DIR` what the firmware keeps in flash instead of RAM: the `lcd`
+//! field's skip pyramid (3.8 KB, a quarter of the micro:bit's RAM) and, on
+//! the Cortex-M4F board, the `thesis` scene's 512 × 512 field (256 KiB,
+//! made by `hfray::generate::plasma` exactly as the i486 program and the
+//! host make it at run time) and its pyramid (34 KB).
+use std::{env, fs, path::Path, path::PathBuf};
+
+use hfray::{HeightConvention, HeightField, Samples, SkipGrid};
+
+// The `lcd` field, `THESIS_SIDE`, `THESIS_SAMPLES`, `thesis_field`,
+// `skip_layout`.
+include!("src/generated.rs");
 
 fn main() {
+    println!("cargo::rustc-check-cfg=cfg(hfray_thesis_in_flash)");
+    for f in [
+        "memory-microbit.x",
+        "memory-mps2-an386.x",
+        "src/generated.rs",
+        "data/rmnp_co_152x187.u8.raw",
+        "build.rs",
+    ] {
+        println!("cargo:rerun-if-changed={f}");
+    }
     let target = env::var("TARGET").unwrap_or_default();
     let board = if target.starts_with("thumbv6m") {
         "microbit"
@@ -18,7 +39,26 @@ fn main() {
     let out = PathBuf::from(env::var("OUT_DIR").unwrap());
     fs::copy(&memory, out.join("memory.x")).unwrap();
     println!("cargo:rustc-link-search={}", out.display());
-    println!("cargo:rerun-if-changed=memory-microbit.x");
-    println!("cargo:rerun-if-changed=memory-mps2-an386.x");
-    println!("cargo:rerun-if-changed=build.rs");
+    let size = (LCD_FIELD_WIDTH, LCD_FIELD_DEPTH);
+    write_pyramid(&LCD_FIELD_SAMPLES, size, &out.join("lcd_pyramid.bin"));
+    // The micro:bit's whole flash is 256 KiB: no room for the thesis field.
+    if board == "mps2-an386" {
+        let mut field = vec![0u8; THESIS_SAMPLES];
+        thesis_field(&mut field).expect("thesis field parameters");
+        fs::write(out.join("thesis_field.u8"), &field).unwrap();
+        let side = (THESIS_SIDE, THESIS_SIDE);
+        write_pyramid(&field, side, &out.join("thesis_pyramid.bin"));
+        println!("cargo:rustc-cfg=hfray_thesis_in_flash");
+    }
+}
+
+/// The skip pyramid of a `width × depth` 8-bit field, as the firmware
+/// would build it at run time.
+fn write_pyramid(samples: &[u8], (width, depth): (u32, u32), path: &Path) {
+    let field = HeightField::new(Samples::U8(samples), width, depth, HeightConvention::Gray8)
+        .expect("field");
+    let layout = skip_layout(width, depth);
+    let mut bytes = vec![0u8; SkipGrid::bytes_needed(width, depth, 1, layout).unwrap()];
+    SkipGrid::build(&field, layout, &mut bytes).expect("pyramid");
+    fs::write(path, &bytes).unwrap();
 }

@@ -15,10 +15,21 @@
 #   T+full, T+full:plane-1, T+full:plane-5
 #                                      the `full` build (hfray's primitives): its .text,
 #                                      and a reflective plane under the field at depth 1, 5
+#   T:lcd                              160 × 128 RGB565 (ST7735), Rocky Mountain 152 × 187
+#   T:thesis                           the thesis benchmark, 512² plasma at 320 × 200
+#                                      (Cortex-M4F and i486; not in the micro:bit's flash)
+#   thumbv7em-none-eabihf/mps2-an386:sqrt-check, i586-unknown-linux-gnu/i486:sqrt-check
+#                                      vsqrt.f32 / fsqrt against libm's sqrtf over 2^20
+#                                      inputs (the 486 at three x87 precisions)
 #   thumbv6m-none-eabi/microbit-minimal[:reflect-5]
 #                                      the minimal M0 build (no secondary rays): the
 #                                      base frame, and reflect-5 refused with NotBuilt
 # `--base` runs the base scene of the height-field-only build only.
+# `--profile` also prints, under each run's line, the functions that
+# executed the most instructions (`PROFILE_TOP`, default 12), symbolised
+# from the run's ELF (tools/qemu-insn-count/by_symbol.py; needs python3
+# and nm):
+#   profile T:  N  P%  FUNCTION
 #
 # Exits non-zero if a tool or target is missing (saying which), a build or
 # run fails, or any frame differs from the host's (checksum and bytes) or
@@ -34,14 +45,19 @@
 set -euo pipefail
 
 all=1
-case "${1:-}" in
-"") ;;
---base) all=0 ;;
-*)
-    echo "usage: run-qemu.sh [--base]" >&2
-    exit 2
-    ;;
-esac
+profile=0
+for arg in "$@"; do
+    case "$arg" in
+    --base) all=0 ;;
+    --profile) profile=1 ;;
+    *)
+        echo "usage: run-qemu.sh [--base] [--profile]" >&2
+        exit 2
+        ;;
+    esac
+done
+# Functions listed per run by --profile.
+profile_top="${PROFILE_TOP:-12}"
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -50,12 +66,14 @@ run_timeout="${RUN_TIMEOUT:-600}"
 
 # --- what is needed, and is it here? -------------------------------------
 missing=()
-for tool in cargo gcc readelf cmp timeout qemu-system-arm qemu-i386; do
+tools=(cargo gcc readelf cmp timeout qemu-system-arm qemu-i386)
+((profile)) && tools+=(python3 nm)
+for tool in "${tools[@]}"; do
     if ! command -v "$tool" >/dev/null 2>&1; then
         case "$tool" in
         qemu-system-arm) missing+=("qemu-system-arm (apt-get install -y qemu-system-arm)") ;;
         qemu-i386) missing+=("qemu-i386 (apt-get install -y qemu-user)") ;;
-        readelf) missing+=("readelf (apt-get install -y binutils)") ;;
+        readelf | nm) missing+=("$tool (apt-get install -y binutils)") ;;
         *) missing+=("$tool") ;;
         esac
     fi
@@ -160,6 +178,13 @@ image_bytes() {
     done
     echo "$sum"
 }
+# profile LABEL DUMP ELF: with --profile, the run's top functions by
+# executed instructions.
+profile() {
+    ((profile)) || return 0
+    python3 "$here/tools/qemu-insn-count/by_symbol.py" "$2" "$3" nm "$profile_top" |
+        tail -n +2 | sed "s|^|profile $1: |"
+}
 # The work counters every program prints; they must equal the host's.
 work_keys=(hits reflected_rays shadow_rays shadow_hits cells triangle_tests dropped_rays)
 work() {
@@ -179,7 +204,7 @@ host() {
     [[ -n "${host_sum[$scene]}" ]] || { echo "run-qemu.sh: no host checksum in: $line" >&2; exit 1; }
 }
 scenes=(base)
-((all)) && scenes+=(reflect-1 reflect-5 plane-1 plane-5)
+((all)) && scenes+=(reflect-1 reflect-5 plane-1 plane-5 lcd thesis)
 for s in "${scenes[@]}"; do host "$s"; done
 cp "$out/frame-host-base.ppm" "$out/frame-host.ppm"
 
@@ -219,7 +244,7 @@ frame_name() {
 scratch="$out/scratch"
 # The runs: build (hf = height-field only, full) and scene.
 runs=("hf base")
-((all)) && runs+=("hf reflect-1" "hf reflect-5" "full base" "full plane-1" "full plane-5")
+((all)) && runs+=("hf reflect-1" "hf reflect-5" "full base" "full plane-1" "full plane-5" "hf lcd" "hf thesis")
 
 # --- Cortex-M under qemu-system-arm ----------------------------------------
 for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
@@ -227,6 +252,8 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
     board="${pair##*:}"
     for r in "${runs[@]}"; do
         read -r build scene <<<"$r"
+        # The thesis field (256 KiB) does not fit the micro:bit's flash.
+        [[ "$board" == microbit && "$scene" == thesis ]] && continue
         if [[ "$build" == full ]]; then elf="$fw_full_dir/$triple/release/hfray-firmware"; else elf="$fw_dir/$triple/release/hfray-firmware"; fi
         t="$(label "$triple/$board" "$build" "$scene")"
         tag="$board-$build-$scene"
@@ -252,8 +279,22 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
             "model_bytes=$(field model_bytes "$line") heightfield_bytes=$(field heightfield_bytes "$line")" \
             "tracer_bytes=$(field tracer_bytes "$line") line_bytes=$(field line_bytes "$line")" \
             "scene=$scene build=$build $(work "$line")"
+        profile "$t" "$out/insns-$tag.txt" "$elf"
     done
 done
+
+# --- hardware square root: vsqrt.f32 against libm, bit for bit ----------------
+# The Cortex-M4F firmware's `sqrt-check` compares hfray::math::sqrtf
+# (`vsqrt.f32`) with libm's software sqrtf over 2^20 inputs.
+elf="$fw_dir/thumbv7em-none-eabihf/release/hfray-firmware"
+t="thumbv7em-none-eabihf/mps2-an386:sqrt-check"
+line="$(cd "$out" && timeout "$run_timeout" qemu-system-arm -machine mps2-an386 -nographic \
+    -semihosting-config "enable=on,target=native,arg=hfray-firmware,arg=sqrt-check" -kernel "$elf")" || true
+if [[ "$(field sqrt_mismatches "$line")" == 0 && -n "$(field sqrt_checked "$line")" ]]; then
+    echo "target=$t sqrt_checked=$(field sqrt_checked "$line") sqrt_mismatches=0"
+else
+    fail "$t: hardware sqrt differs from libm's: $line"
+fi
 
 # --- minimal M0 build: the same base frame; a mirror scene is refused -------
 # Built without `secondary-rays`, the firmware must draw the base frame
@@ -278,6 +319,7 @@ if ((all)); then
             echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[base]}" \
                 "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
                 "instructions=${insns:-?} image_bytes=$(image_bytes "$elf") scene=base build=minimal $(work "$line")"
+            profile "$t" "$out/insns-$tag.txt" "$elf"
         elif [[ "$line" == *"error=render:NotBuilt"* ]]; then
             echo "target=$t refused=NotBuilt scene=$scene build=minimal"
         else
@@ -328,7 +370,18 @@ for r in "${runs[@]}"; do
         "native_8MiB_checksum=$(field frame_checksum "$native") vm_peak_kib=$(field vm_peak_kib "$native")" \
         "vm_hwm_kib=$(field vm_hwm_kib "$native") max_rss_kib=${rss:-?}" \
         "scene=$scene build=$build $(work "$line")"
+    profile "$t" "$out/insns-$tag.txt" "$i486_bin"
 done
+
+# fsqrt against libm on the 486, at the x87 precision of the render, the
+# setup and the reset default.
+t="i586-unknown-linux-gnu/i486:sqrt-check"
+line="$(cd "$out" && timeout "$run_timeout" qemu-i386 -cpu 486 "$i486_dir/i586-unknown-linux-gnu/release/hfray-i486" sqrt-check)" || true
+if [[ "$(field sqrt_mismatches "$line")" == 0 && -n "$(field sqrt_checked "$line")" ]]; then
+    echo "target=$t sqrt_checked=$(field sqrt_checked "$line") sqrt_mismatches=0"
+else
+    fail "$t: hardware sqrt differs from libm's: $line"
+fi
 
 if ((status)); then
     echo "run-qemu.sh: FAILED (outputs in $out)" >&2

@@ -1,5 +1,5 @@
 //! hfray on bare metal: a cortex-m-rt application that renders the scene of
-//! `scene.rs` (Maunga Whau, 96 × 64, one light, shadows) with
+//! `scene.rs` (`base`: Maunga Whau, 96 × 64, one light, shadows; `lcd`, `thesis`, …) with
 //! `hfray::render` from a height field held in flash, streams every scanline
 //! to the host through semihosting, and reports the frame checksum and the
 //! stack high-water mark.
@@ -10,7 +10,10 @@
 //! `base` without one.
 //!
 //! No `std`, no allocator, no frame buffer: the only frame-sized state is one
-//! scanline (96 `Rgb888` pixels plus their 288 bytes) on the stack.
+//! row of `Rgb888` pixels (the board's widest frame) on the stack. The
+//! `lcd` pyramid, and on the Cortex-M4F the `thesis` field and pyramid, are
+//! in flash (`build.rs`). `sqrt-check` instead of a scene compares the
+//! hardware square root with libm's (`check_sqrt`).
 //!
 //! Boards (chosen by target in `build.rs`):
 //! - `thumbv6m-none-eabi`: BBC micro:bit (`qemu-system-arm -machine microbit`),
@@ -194,23 +197,55 @@ fn main() -> ! {
     let mut cmdline = [0u8; CMDLINE_BYTES];
     let variant = match scene::variant_from_cmdline(command_line(&mut cmdline)) {
         Some(v) => v,
+        None if variant_is_sqrt_check(&cmdline) => scene::Variant::Base,
         None => {
             let _ = writeln!(out, "board={BOARD} error=unknown-scene");
             fail()
         }
     };
+    if variant_is_sqrt_check(&cmdline) {
+        check_sqrt(&mut out)
+    }
+    let kind = variant.kind();
     let model = match scene::build_scene(variant) {
         Ok(s) => s,
         Err(e) => {
-            let _ = writeln!(out, "board={BOARD} error=scene:{e:?}");
+            let _ = writeln!(
+                out,
+                "board={BOARD} error=scene:{}",
+                scene::scene_error_name(&e)
+            );
             fail()
         }
     };
+    // The base field's 724-byte pyramid is built on the stack; the larger
+    // ones come from flash (build.rs), so no scene needs more RAM.
     let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = match scene::build_field(&model, &mut skip) {
+    let source = match kind {
+        scene::FrameKind::Small => Ok((
+            &scene::FIELD_SAMPLES[..],
+            (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
+            scene::Pyramid::Build(&mut skip),
+        )),
+        scene::FrameKind::Lcd => Ok((
+            &scene::LCD_FIELD_SAMPLES[..],
+            (scene::LCD_FIELD_WIDTH, scene::LCD_FIELD_DEPTH),
+            scene::Pyramid::Precomputed(&LCD_PYRAMID),
+        )),
+        scene::FrameKind::Thesis => thesis_source(),
+    };
+    // One call, so its temporaries (a `HeightField` is 520 bytes) are
+    // laid out once in main's frame.
+    let field = source
+        .and_then(|(samples, size, pyramid)| scene::build_field(&model, samples, size, pyramid));
+    let fields = match field {
         Ok(f) => [f],
         Err(e) => {
-            let _ = writeln!(out, "board={BOARD} error=field:{e:?}");
+            let _ = writeln!(
+                out,
+                "board={BOARD} error=field:{}",
+                scene::scene_error_name(&e)
+            );
             fail()
         }
     };
@@ -225,21 +260,26 @@ fn main() -> ! {
             fail()
         }
     };
-    if file.write_all(scene::PPM_HEADER).is_err() {
+    if file.write_all(kind.ppm_header()).is_err() {
         fail();
     }
     let mut hash = scene::Fnv1a::default();
+    let mut line = [hfray::Rgb888::default(); LINE_PIXELS];
     // Total use since reset so far (setup), then measure the render alone.
     let setup_low = lowest_used_stack_address();
     let render_sp = repaint_below_sp();
-    let stats = scene::render(&model, &fields, |_, line| {
-        hash.update(line);
-        file.write_all(line)
+    let stats = scene::render(kind, &model, &fields, &mut line, |px| {
+        hash.update(px);
+        file.write_all(px)
     });
     let stats = match stats {
         Ok(s) => s,
         Err(scene::FrameError::Render(e)) => {
-            let _ = writeln!(out, "board={BOARD} error=render:{e:?}");
+            let _ = writeln!(
+                out,
+                "board={BOARD} error=render:{}",
+                scene::render_error_name(&e)
+            );
             fail()
         }
         Err(scene::FrameError::Sink(())) => {
@@ -269,7 +309,7 @@ fn main() -> ! {
         variant.name(),
         hash.0,
     );
-    let _ = scene::write_sizes(&mut out);
+    let _ = scene::write_sizes(&mut out, kind);
     let _ = out.write_str(" ");
     let _ = scene::write_work(&mut out, &stats);
     let _ = out.write_str("\n");
@@ -277,6 +317,82 @@ fn main() -> ! {
     loop {
         cortex_m::asm::wfi();
     }
+}
+
+/// The `lcd` field's skip pyramid, built by `build.rs` (3.8 KB of flash
+/// instead of RAM).
+static LCD_PYRAMID: [u8; scene::LCD_SKIP_BYTES] =
+    *include_bytes!(concat!(env!("OUT_DIR"), "/lcd_pyramid.bin"));
+
+/// The `thesis` field and its pyramid in flash, where the board has room:
+/// generated at build time by `build.rs` with `scene::thesis_field`
+/// (256 KiB; the micro:bit's flash is 256 KiB in all).
+#[cfg(hfray_thesis_in_flash)]
+static THESIS_SAMPLES: [u8; scene::THESIS_SAMPLES] =
+    *include_bytes!(concat!(env!("OUT_DIR"), "/thesis_field.u8"));
+#[cfg(hfray_thesis_in_flash)]
+static THESIS_PYRAMID: [u8; scene::THESIS_SKIP_BYTES] =
+    *include_bytes!(concat!(env!("OUT_DIR"), "/thesis_pyramid.bin"));
+
+/// Pixels in the row buffer: the widest frame this board renders.
+#[cfg(hfray_thesis_in_flash)]
+const LINE_PIXELS: usize = scene::THESIS_WIDTH;
+/// Pixels in the row buffer: the widest frame this board renders.
+#[cfg(not(hfray_thesis_in_flash))]
+const LINE_PIXELS: usize = scene::LCD_WIDTH;
+
+/// Samples, size and pyramid of a field.
+type FieldSource = (&'static [u8], (u32, u32), scene::Pyramid<'static>);
+
+/// The `thesis` scene's field, from flash.
+#[cfg(hfray_thesis_in_flash)]
+fn thesis_source() -> Result<FieldSource, scene::SceneError> {
+    let side = (scene::THESIS_SIDE, scene::THESIS_SIDE);
+    Ok((
+        &THESIS_SAMPLES,
+        side,
+        scene::Pyramid::Precomputed(&THESIS_PYRAMID),
+    ))
+}
+
+/// The `thesis` scene is not in this board's flash.
+#[cfg(not(hfray_thesis_in_flash))]
+fn thesis_source() -> Result<FieldSource, scene::SceneError> {
+    Err(scene::SceneError::NotInThisBuild)
+}
+
+/// `true` if the command line's last word is `sqrt-check`.
+fn variant_is_sqrt_check(line: &[u8; CMDLINE_BYTES]) -> bool {
+    let end = line.iter().position(|&b| b == 0).unwrap_or(CMDLINE_BYTES);
+    line[..end].ends_with(b" sqrt-check") || &line[..end] == b"sqrt-check"
+}
+
+/// Inputs [`check_sqrt`] compares: every 4093rd bit pattern, so all
+/// exponents, signs, subnormals, infinities and NaNs are among them.
+const SQRT_CHECKS: u32 = 1 << 20;
+
+/// The `sqrt-check` run: `hfray::math::sqrtf` (`vsqrt.f32` on the
+/// Cortex-M4F) against `libm::sqrtf`, bit for bit, printed as
+/// `sqrt_checked=N sqrt_mismatches=M`; exits, non-zero on any mismatch.
+fn check_sqrt(out: &mut hio::HostStream) -> ! {
+    let mut bits = 0u32;
+    let mut mismatches = 0u32;
+    for _ in 0..SQRT_CHECKS {
+        let x = f32::from_bits(bits);
+        let (ours, reference) = (hfray::math::sqrtf(x), libm::sqrtf(x));
+        if ours.to_bits() != reference.to_bits() && !(ours.is_nan() && reference.is_nan()) {
+            mismatches += 1;
+        }
+        bits = bits.wrapping_add(4093);
+    }
+    let _ = writeln!(
+        out,
+        "board={BOARD} scene=sqrt-check sqrt_checked={SQRT_CHECKS} sqrt_mismatches={mismatches}"
+    );
+    if mismatches == 0 {
+        debug::exit(debug::EXIT_SUCCESS);
+    }
+    fail()
 }
 
 #[panic_handler]

@@ -7,14 +7,16 @@
 //! - the freestanding i486 program (`examples/firmware/i486/src/main.rs`).
 //!
 //! It uses only `core` and `hfray`: no allocation, no frame buffer. The frame
-//! is handed out one scanline (`WIDTH * 3` RGB bytes) at a time.
+//! is handed out one pixel (three RGB bytes) at a time, row 0 first.
 //!
 //! Several scenes ([`Variant`], chosen at run time by name so one binary
 //! renders them all with the same code): the issue-5 frame (`base`), the
 //! field as a mirror at `max_trace_level` 1 and 5 (`reflect-1`,
-//! `reflect-5`), and, in builds with the `primitives` feature, the field
-//! over a reflective plane (`plane-1`, `plane-5`), so the analytic-shape
-//! code is really linked and exercised.
+//! `reflect-5`), in builds with the `primitives` feature the field over a
+//! reflective plane (`plane-1`, `plane-5`), so the analytic-shape code is
+//! really linked and exercised, and two frames at real sizes ([`FrameKind`]):
+//! `lcd` (160 × 128 RGB565 for an ST7735 panel, a 152 × 187 DEM) and
+//! `thesis` (the thesis's 512² benchmark at 320 × 200).
 //!
 //! The scene is a [`hfray::scene::model::Scene`] (the model the parser
 //! fills), rendered by hfray's own renderer: [`render`] calls
@@ -34,16 +36,22 @@ use hfray::scene::model::{
 };
 use hfray::transform::TransformError;
 use hfray::{
-    Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb888, Samples,
-    SkipError, SkipGrid, SkipLayout, Stats, Tracer, Transform,
+    Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb565, Rgb888,
+    Samples, SkipError, SkipGrid, Stats, Tracer, Transform,
 };
 
-/// Frame width in pixels.
+/// Frame width of the 96 × 64 scenes (`base`, `reflect-*`, `plane-*`).
 pub const WIDTH: usize = 96;
-/// Frame height in pixels.
+/// Frame height of the 96 × 64 scenes.
 pub const HEIGHT: usize = 64;
-/// Bytes in one streamed scanline (RGB, 8 bits each).
-pub const LINE_BYTES: usize = WIDTH * 3;
+/// Width of the `lcd` frame: an ST7735 1.8" panel, 160 × 128.
+pub const LCD_WIDTH: usize = 160;
+/// Height of the `lcd` frame.
+pub const LCD_HEIGHT: usize = 128;
+/// Width of the `thesis` frame (the thesis's 320 × 200 benchmark).
+pub const THESIS_WIDTH: usize = 320;
+/// Height of the `thesis` frame.
+pub const THESIS_HEIGHT: usize = 200;
 
 /// Samples per row of the embedded field.
 pub const FIELD_WIDTH: u32 = 87;
@@ -56,6 +64,10 @@ pub const FIELD_DEPTH: u32 = 61;
 /// A `static`, so on the microcontrollers it stays in flash.
 pub static FIELD_SAMPLES: [u8; (FIELD_WIDTH * FIELD_DEPTH) as usize] =
     *include_bytes!("../data/maunga_whau_87x61.u8.raw");
+
+// The `lcd` field, `THESIS_SIDE`, `THESIS_SAMPLES`, `thesis_field`,
+// `skip_layout`: shared with `build.rs`.
+include!("generated.rs");
 
 /// Object capacity of the scene model: the height field, plus the plane
 /// when the analytic primitives are built.
@@ -91,23 +103,47 @@ pub enum Variant {
         /// `max_trace_level`.
         level: u32,
     },
+    /// A frame for an ST7735 1.8" LCD: 160 × 128 RGB565, the Rocky
+    /// Mountain field ([`LCD_FIELD_SAMPLES`], flash) seen from a camera
+    /// pitched 25° down, one light, shadows, `smooth`.
+    Lcd,
+    /// The thesis's benchmark frame: a 512 × 512 plasma field
+    /// ([`thesis_field`]), 320 × 200, one light with shadows, one colour
+    /// (the thesis: 22 min 26 s on a 486DLC-40). The program provides the
+    /// samples.
+    Thesis,
+}
+
+/// How a variant's frame is laid out, and which field it draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrameKind {
+    /// 96 × 64 RGB888, Maunga Whau.
+    Small,
+    /// 160 × 128 RGB565, Rocky Mountain.
+    Lcd,
+    /// 320 × 200 RGB888, the 512² plasma.
+    Thesis,
 }
 
 /// Every variant this build can render, by name.
 #[cfg(not(feature = "primitives"))]
-pub const VARIANTS: [(&str, Variant); 3] = [
+pub const VARIANTS: [(&str, Variant); 5] = [
     ("base", Variant::Base),
     ("reflect-1", Variant::Reflect { level: 1 }),
     ("reflect-5", Variant::Reflect { level: 5 }),
+    ("lcd", Variant::Lcd),
+    ("thesis", Variant::Thesis),
 ];
 /// Every variant this build can render, by name.
 #[cfg(feature = "primitives")]
-pub const VARIANTS: [(&str, Variant); 5] = [
+pub const VARIANTS: [(&str, Variant); 7] = [
     ("base", Variant::Base),
     ("reflect-1", Variant::Reflect { level: 1 }),
     ("reflect-5", Variant::Reflect { level: 5 }),
     ("plane-1", Variant::Plane { level: 1 }),
     ("plane-5", Variant::Plane { level: 5 }),
+    ("lcd", Variant::Lcd),
+    ("thesis", Variant::Thesis),
 ];
 
 impl Variant {
@@ -118,6 +154,15 @@ impl Variant {
             .iter()
             .find(|(n, _)| n.as_bytes() == name)
             .map(|&(_, v)| v)
+    }
+
+    /// Its frame layout and field.
+    pub fn kind(self) -> FrameKind {
+        match self {
+            Variant::Lcd => FrameKind::Lcd,
+            Variant::Thesis => FrameKind::Thesis,
+            _ => FrameKind::Small,
+        }
     }
 
     /// The variant's name in [`VARIANTS`].
@@ -152,8 +197,11 @@ pub enum SceneError {
     Transform(TransformError),
     /// A `heapless` capacity was too small.
     Capacity,
-    /// The skip pyramid could not be built in [`SKIP_BYTES`] bytes.
+    /// The skip pyramid could not be built.
     Skip(SkipError),
+    /// The scene's field is not part of this program (`thesis` on the
+    /// Cortex-M0: 256 KiB of samples).
+    NotInThisBuild,
 }
 
 impl From<SkipError> for SceneError {
@@ -183,36 +231,151 @@ pub fn field_transform() -> Result<Transform, SceneError> {
     Ok(scale.then(&shift))
 }
 
-/// The scene as data: camera, one light, one smooth height field (and, for
+/// The `lcd` field's placement: 152 × 187 samples at about 233 m, 35.4 km ×
+/// 43.6 km scaled to 1 × 1.236 in x/z, its 1,980 m relief to 0.112 in y
+/// (2× exaggerated), centred on the origin in x/z.
+fn lcd_field_transform() -> Result<Transform, SceneError> {
+    let scale = Transform::scale(DVec3::new(1.0, 0.112, 1.236))?;
+    let shift = Transform::translate(DVec3::new(-0.5, 0.0, -0.618))?;
+    Ok(scale.then(&shift))
+}
+
+/// What a frame kind's scene is made of.
+struct Look {
+    location: Vec3,
+    look_at: Vec3,
+    angle: f32,
+    aspect: f32,
+    background: Vec3,
+    light: Vec3,
+    colour: Vec3,
+    finish: Finish,
+    smooth: bool,
+}
+
+impl FrameKind {
+    /// Frame width and height in pixels.
+    pub fn size(self) -> (usize, usize) {
+        match self {
+            FrameKind::Small => (WIDTH, HEIGHT),
+            FrameKind::Lcd => (LCD_WIDTH, LCD_HEIGHT),
+            FrameKind::Thesis => (THESIS_WIDTH, THESIS_HEIGHT),
+        }
+    }
+
+    /// The binary PPM header for the frame, so a streamed frame is viewable.
+    pub fn ppm_header(self) -> &'static [u8] {
+        match self {
+            FrameKind::Small => b"P6\n96 64\n255\n",
+            FrameKind::Lcd => b"P6\n160 128\n255\n",
+            FrameKind::Thesis => b"P6\n320 200\n255\n",
+        }
+    }
+
+    /// The field in flash, with its width and depth; `None` for the thesis
+    /// field, which the program provides.
+    pub fn flash_field(self) -> Option<(&'static [u8], u32, u32)> {
+        match self {
+            FrameKind::Small => Some((&FIELD_SAMPLES, FIELD_WIDTH, FIELD_DEPTH)),
+            FrameKind::Lcd => Some((&LCD_FIELD_SAMPLES, LCD_FIELD_WIDTH, LCD_FIELD_DEPTH)),
+            FrameKind::Thesis => None,
+        }
+    }
+
+    fn look(self) -> Look {
+        let (w, h) = self.size();
+        let aspect = w as f32 / h as f32;
+        match self {
+            // A low sun from the west (and a little south), so the crater
+            // rim and the western cone cast shadows.
+            FrameKind::Small => Look {
+                location: Vec3::new(0.35, 0.85, -0.95),
+                look_at: Vec3::new(0.0, 0.0, 0.02),
+                angle: 55.0,
+                aspect,
+                background: Vec3::new(0.45, 0.62, 0.85),
+                light: Vec3::new(-2.5, 1.6, -0.6),
+                colour: Vec3::new(0.55, 0.72, 0.38),
+                finish: Finish {
+                    ambient: Vec3::splat(0.15),
+                    diffuse: 0.85,
+                    ..Finish::default()
+                },
+                smooth: true,
+            },
+            // From the south, pitched 25° down (0.47 down per 1.0 ahead),
+            // an evening sun from the north-west behind the range.
+            FrameKind::Lcd => Look {
+                location: Vec3::new(0.0, 0.52, -1.1),
+                look_at: Vec3::new(0.0, 0.05, -0.1),
+                angle: 60.0,
+                aspect,
+                background: Vec3::new(0.45, 0.62, 0.85),
+                light: Vec3::new(-2.0, 1.5, 0.5),
+                colour: Vec3::new(0.50, 0.56, 0.38),
+                finish: Finish {
+                    ambient: Vec3::splat(0.15),
+                    diffuse: 0.85,
+                    ..Finish::default()
+                },
+                smooth: true,
+            },
+            // examples/scenes/bench512.pov: POV-Ray's default finish, flat
+            // triangles.
+            FrameKind::Thesis => Look {
+                location: Vec3::new(0.5, 0.8, -0.6),
+                look_at: Vec3::new(0.5, 0.1, 0.5),
+                angle: 60.0,
+                aspect,
+                background: Vec3::new(0.5, 0.7, 0.9),
+                light: Vec3::new(-3.0, 4.0, -2.0),
+                colour: Vec3::new(0.6, 0.5, 0.4),
+                finish: Finish::default(),
+                smooth: false,
+            },
+        }
+    }
+
+    /// The field's placement.
+    fn transform(self) -> Result<Transform, SceneError> {
+        match self {
+            FrameKind::Small => field_transform(),
+            FrameKind::Lcd => lcd_field_transform(),
+            FrameKind::Thesis => Ok(Transform::scale(DVec3::new(1.0, 0.3, 1.0))?),
+        }
+    }
+}
+
+/// The scene as data: camera, one light, one height field (and, for
 /// [`Variant::Plane`], a plane under it).
 pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
+    let kind = variant.kind();
+    let look = kind.look();
     let mut scene = FirmwareScene {
         camera: CameraDesc {
             projection: Projection::Perspective,
-            location: Vec3::new(0.35, 0.85, -0.95),
-            look_at: Vec3::new(0.0, 0.0, 0.02),
-            angle: Some(55.0),
-            right: Vec3::new(WIDTH as f32 / HEIGHT as f32, 0.0, 0.0),
+            location: look.location,
+            look_at: look.look_at,
+            angle: Some(look.angle),
+            right: Vec3::new(look.aspect, 0.0, 0.0),
             ..CameraDesc::default()
         },
-        background: Vec3::new(0.45, 0.62, 0.85),
+        background: look.background,
         ..FirmwareScene::default()
     };
-    // A low sun from the west (and a little south), so the crater rim and
-    // the western cone cast shadows.
     scene
         .lights
         .push(Light {
-            position: Vec3::new(-2.5, 1.6, -0.6),
+            position: look.light,
             color: Vec3::ONE,
         })
         .map_err(|_| SceneError::Capacity)?;
-    // One call to field_transform (so LTO inlines it: its f64 temporaries
-    // then share main's frame instead of stacking a frame of their own on
-    // top of it).
-    let placed = field_transform()?;
+    // One call to the placement (so LTO inlines it: its f64 temporaries
+    // then share the caller's frame instead of stacking a frame of their
+    // own on top of it).
+    let placed = kind.transform()?;
     let (transform, reflection) = match variant {
-        Variant::Base => (placed, 0.0),
+        Variant::Base | Variant::Lcd | Variant::Thesis => (placed, 0.0),
         Variant::Reflect { level } => {
             scene.settings.max_trace_level = level;
             // Turned about the vertical axis through the origin.
@@ -230,22 +393,20 @@ pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
         .push(Object {
             shape: Shape::HeightField {
                 format: ImageFormat::Png,
-                path: "data/maunga_whau_87x61.u8.raw",
-                smooth: true,
+                path: "field",
+                smooth: look.smooth,
                 water_level: 0.0,
                 palette_colors: false,
                 field_index: 0,
             },
             transform,
             pigment: Pigment {
-                color: Vec3::new(0.55, 0.72, 0.38),
+                color: look.colour,
                 ..Pigment::default()
             },
             finish: Finish {
-                ambient: Vec3::splat(0.15),
-                diffuse: 0.85,
                 reflection: Vec3::splat(reflection),
-                ..Finish::default()
+                ..look.finish
             },
         })
         .map_err(|_| SceneError::Capacity)?;
@@ -276,37 +437,75 @@ pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
     Ok(scene)
 }
 
-/// Bytes of the field's skip pyramid ([`SkipLayout::pyramid`] with
+/// Bytes of the `base` field's skip pyramid ([`SkipLayout::pyramid`] with
 /// fan-out 4: 4- and 16-cell blocks): a 16-byte header and
 /// `2 × (22·15 + 6·4)` bytes of block bounds.
 pub const SKIP_BYTES: usize = 724;
+/// Bytes of the `lcd` field's pyramid: `16 + 2 × (38·47 + 10·12)`.
+pub const LCD_SKIP_BYTES: usize = 3_828;
+/// Bytes of the `thesis` field's pyramid: `16 + 2 × (128² + 32² + 8²)`.
+pub const THESIS_SKIP_BYTES: usize = 34_960;
 
-/// The height field the scene's object 0 refers to, over the flash samples,
-/// walked through a skip pyramid built into `skip` (the caller's memory, on
-/// the stack of every program here). The pyramid changes no pixel: every
-/// traversal mode gives the flat walk's hits bit for bit.
+/// Where a field's skip pyramid comes from.
+pub enum Pyramid<'a> {
+    /// Built at run time into this buffer (at least the pyramid's size;
+    /// the front is used).
+    Build(&'a mut [u8]),
+    /// Built earlier (`build.rs` into flash): borrowed as it is.
+    Precomputed(&'a [u8]),
+}
+
+/// The height field the scene's object 0 refers to, over `samples`
+/// (`width × depth`, row 0 = far edge), walked through its skip pyramid
+/// ([`skip_layout`]). The pyramid changes no pixel: every traversal mode
+/// gives the flat walk's hits bit for bit.
 pub fn build_field<'a>(
     scene: &FirmwareScene,
-    skip: &'a mut [u8; SKIP_BYTES],
+    samples: &'a [u8],
+    (width, depth): (u32, u32),
+    pyramid: Pyramid<'a>,
 ) -> Result<HeightField<'a>, SceneError> {
     let transform = scene
         .objects
         .first()
         .map(|o| o.transform)
         .ok_or(SceneError::Capacity)?;
-    let field = HeightField::new(
-        Samples::U8(&FIELD_SAMPLES),
-        FIELD_WIDTH,
-        FIELD_DEPTH,
-        HeightConvention::Gray8,
-    )?
-    .with_transform(transform);
-    let grid = SkipGrid::build(
-        &field,
-        SkipLayout::pyramid(FIELD_WIDTH, FIELD_DEPTH, 2),
-        skip,
-    )?;
+    let field = HeightField::new(Samples::U8(samples), width, depth, HeightConvention::Gray8)?
+        .with_transform(transform);
+    let grid = match pyramid {
+        Pyramid::Build(buffer) => {
+            let layout = skip_layout(width, depth);
+            let needed = SkipGrid::bytes_needed(width, depth, 1, layout)?;
+            let buffer = buffer.get_mut(..needed).ok_or(SceneError::Capacity)?;
+            SkipGrid::build(&field, layout, buffer)?
+        }
+        Pyramid::Precomputed(bytes) => SkipGrid::from_precomputed(bytes, &field)?,
+    };
     Ok(field.with_skip(grid)?)
+}
+
+/// A short name for an error, for the programs' one-line reports (the
+/// `Debug` forms cost the Cortex-M0 build about 3 KB of flash).
+pub fn scene_error_name(e: &SceneError) -> &'static str {
+    match e {
+        SceneError::Field(_) => "Field",
+        SceneError::Transform(_) => "Transform",
+        SceneError::Capacity => "Capacity",
+        SceneError::Skip(_) => "Skip",
+        SceneError::NotInThisBuild => "NotInThisBuild",
+    }
+}
+
+/// [`scene_error_name`] for the renderer's errors.
+pub fn render_error_name(e: &RenderError) -> &'static str {
+    match e {
+        RenderError::NotBuilt { .. } => "NotBuilt",
+        RenderError::Camera(_) => "Camera",
+        RenderError::Shape { .. } => "Shape",
+        RenderError::MissingField { .. } => "MissingField",
+        RenderError::FieldMismatch { .. } => "FieldMismatch",
+        _ => "Settings",
+    }
 }
 
 /// Writes the render's work counters as `key=value` fields (every program
@@ -330,8 +529,8 @@ pub fn write_work(out: &mut impl core::fmt::Write, stats: &Stats) -> core::fmt::
 /// Writes the sizes of what the render holds, on the running target, as
 /// `key=value` fields: the scene model, one `HeightField`, the camera, the
 /// tracer (`Tracer<OBJECTS>`, on the stack during the render) and the line
-/// buffers ([`WIDTH`] `Rgb888` pixels plus [`LINE_BYTES`] bytes).
-pub fn write_sizes(out: &mut impl core::fmt::Write) -> core::fmt::Result {
+/// row buffer (the frame's width in `Rgb888` pixels).
+pub fn write_sizes(out: &mut impl core::fmt::Write, kind: FrameKind) -> core::fmt::Result {
     write!(
         out,
         "model_bytes={} heightfield_bytes={} camera_bytes={} tracer_bytes={} line_bytes={}",
@@ -339,7 +538,7 @@ pub fn write_sizes(out: &mut impl core::fmt::Write) -> core::fmt::Result {
         core::mem::size_of::<HeightField<'static>>(),
         core::mem::size_of::<Camera>(),
         core::mem::size_of::<Tracer<'static, OBJECTS>>(),
-        WIDTH * core::mem::size_of::<Rgb888>() + LINE_BYTES
+        kind.size().0 * core::mem::size_of::<Rgb888>()
     )
 }
 
@@ -372,38 +571,44 @@ pub enum FrameError<E> {
     Sink(E),
 }
 
-/// Copies one row of pixels into RGB bytes.
-fn to_bytes(line: &[Rgb888; WIDTH], bytes: &mut [u8; LINE_BYTES]) {
-    for (dst, p) in bytes.chunks_exact_mut(3).zip(line.iter()) {
-        dst.copy_from_slice(&p.0);
+/// The RGB bytes a pixel is sent as: for an RGB565 frame, the colour the
+/// panel shows (quantised as `Rgb565::from_linear` does, then expanded
+/// back, `Rgb565::to_rgb888`).
+#[inline]
+fn shown(p: Rgb888, rgb565: bool) -> [u8; 3] {
+    if rgb565 {
+        Rgb565::from_rgb888(p).to_rgb888().0
+    } else {
+        p.0
     }
 }
 
-/// Renders the frame with [`hfray::render::render`], handing each finished
-/// scanline (row 0 first, [`LINE_BYTES`] RGB bytes) to `sink`. Stops at the
-/// first sink error. State: one row of pixels and one of bytes (576 bytes).
+/// Renders the frame of `kind` with [`hfray::render::render`] into `line`
+/// (the caller's row buffer, at least the frame's width: one buffer serves
+/// every frame size), handing each pixel's RGB bytes to `sink`, row 0
+/// first, left to right. Stops at the first sink error.
 pub fn render<E>(
+    kind: FrameKind,
     scene: &FirmwareScene,
     fields: &[HeightField<'_>],
-    mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
+    line: &mut [Rgb888],
+    mut sink: impl FnMut(&[u8; 3]) -> Result<(), E>,
 ) -> Result<Stats, FrameError<E>> {
-    let settings = RenderSettings::new(WIDTH as u32, HEIGHT as u32);
-    let mut line = [Rgb888::default(); WIDTH];
-    let mut bytes = [0u8; LINE_BYTES];
+    let (width, height) = kind.size();
+    let settings = RenderSettings::new(width as u32, height as u32);
+    let line = line
+        .get_mut(..width)
+        .ok_or(FrameError::Render(RenderError::EmptyImage))?;
     let mut failed = None;
-    let stats = hfray::render(scene, fields, &settings, &mut line, &mut |y, row| {
-        let row: &[Rgb888; WIDTH] = match row.try_into() {
-            Ok(r) => r,
-            Err(_) => return ControlFlow::Break(()),
-        };
-        to_bytes(row, &mut bytes);
-        match sink(y as usize, &bytes) {
-            Ok(()) => ControlFlow::Continue(()),
-            Err(e) => {
+    let rgb565 = kind == FrameKind::Lcd;
+    let stats = hfray::render(scene, fields, &settings, line, &mut |_, row| {
+        for p in row {
+            if let Err(e) = sink(&shown(*p, rgb565)) {
                 failed = Some(e);
-                ControlFlow::Break(())
+                return ControlFlow::Break(());
             }
         }
+        ControlFlow::Continue(())
     })
     .map_err(FrameError::Render)?;
     match failed {
@@ -417,6 +622,7 @@ pub fn render<E>(
 /// per-pixel work (`f32` only). Same arithmetic as `hfray::render` with
 /// `aa = 1`: one ray through each pixel centre, `Rgb888::from_linear`.
 pub struct Renderer<'s> {
+    kind: FrameKind,
     camera: Camera,
     tracer: Tracer<'s, OBJECTS>,
 }
@@ -424,40 +630,34 @@ pub struct Renderer<'s> {
 impl<'s> Renderer<'s> {
     /// Per-frame setup.
     pub fn new(
+        kind: FrameKind,
         scene: &'s FirmwareScene,
         fields: &'s [HeightField<'s>],
     ) -> Result<Self, RenderError> {
+        let (width, height) = kind.size();
         Ok(Renderer {
-            camera: Camera::new(&scene.camera, WIDTH as u32, HEIGHT as u32)
+            kind,
+            camera: Camera::new(&scene.camera, width as u32, height as u32)
                 .map_err(RenderError::Camera)?,
             tracer: Tracer::new(scene, fields)?,
         })
     }
 
-    /// Renders the frame; see [`render`]. Bounds: `HEIGHT × WIDTH` pixels,
+    /// Renders the frame; see [`render`]. Bounds: `height × width` pixels,
     /// each one `Tracer::trace_camera` (itself bounded by hfray), as
     /// `hfray::render` traces it.
-    pub fn render<E>(
-        &self,
-        mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
-    ) -> Result<Stats, E> {
+    pub fn render<E>(&self, mut sink: impl FnMut(&[u8; 3]) -> Result<(), E>) -> Result<Stats, E> {
         let mut stats = Stats::default();
-        let mut line = [Rgb888::default(); WIDTH];
-        let mut bytes = [0u8; LINE_BYTES];
-        for y in 0..HEIGHT {
-            for (x, px) in line.iter_mut().enumerate() {
+        let (width, height) = self.kind.size();
+        let rgb565 = self.kind == FrameKind::Lcd;
+        for y in 0..height {
+            for x in 0..width {
                 let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
                 let c = self.tracer.trace_camera(&ray, None, &mut stats);
-                *px = Rgb888::from_linear(c, x as u32, y as u32);
+                sink(&shown(Rgb888::from_linear(c, x as u32, y as u32), rgb565))?;
             }
             stats.rows += 1;
-            to_bytes(&line, &mut bytes);
-            sink(y, &bytes)?;
         }
         Ok(stats)
     }
 }
-
-/// The binary PPM header for the frame, so a streamed frame is viewable.
-pub const PPM_HEADER: &[u8] = b"P6\n96 64\n255\n";
-const _: () = assert!(WIDTH == 96 && HEIGHT == 64, "update PPM_HEADER");

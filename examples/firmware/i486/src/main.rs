@@ -44,6 +44,14 @@ mod scene;
 
 use core::arch::{asm, global_asm};
 use core::fmt::Write as _;
+use core::ptr::addr_of_mut;
+
+/// The `thesis` field, generated at run time (256 KiB; in `.bss`, as the
+/// stack is capped at 64 KiB).
+static mut THESIS_FIELD: [u8; scene::THESIS_SAMPLES] = [0; scene::THESIS_SAMPLES];
+/// The skip pyramid of whichever field the scene draws (the largest, the
+/// thesis field's, is 34 KB).
+static mut PYRAMID: [u8; scene::THESIS_SKIP_BYTES] = [0; scene::THESIS_SKIP_BYTES];
 
 /// Bytes of stack painted below the entry stack pointer.
 const PAINT_BYTES: usize = 16 * 1024;
@@ -332,6 +340,9 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     // Setup (f64 inside the core: transform composition and inverses).
     set_x87_precision(0b10);
     let arg = last_argument(entry_sp);
+    if arg == b"sqrt-check" {
+        check_sqrt()
+    }
     let variant = if arg.is_empty() {
         scene::Variant::Base
     } else {
@@ -340,12 +351,38 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
             None => fail("unknown-scene"),
         }
     };
+    let kind = variant.kind();
     let model = match scene::build_scene(variant) {
         Ok(s) => s,
         Err(_) => fail("scene"),
     };
-    let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = match scene::build_field(&model, &mut skip) {
+    // SAFETY: taken once, here, in a single-threaded program; nothing else
+    // names these statics.
+    let (thesis, pyramid) = unsafe {
+        (
+            &mut *addr_of_mut!(THESIS_FIELD),
+            &mut *addr_of_mut!(PYRAMID),
+        )
+    };
+    let (samples, size): (&[u8], _) = match kind {
+        scene::FrameKind::Small => (
+            &scene::FIELD_SAMPLES,
+            (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
+        ),
+        scene::FrameKind::Lcd => (
+            &scene::LCD_FIELD_SAMPLES,
+            (scene::LCD_FIELD_WIDTH, scene::LCD_FIELD_DEPTH),
+        ),
+        scene::FrameKind::Thesis => {
+            // Generated at run time, as the thesis did (integer arithmetic:
+            // the same bytes as the host's).
+            if scene::thesis_field(thesis).is_err() {
+                fail("thesis-field");
+            }
+            (&thesis[..], (scene::THESIS_SIDE, scene::THESIS_SIDE))
+        }
+    };
+    let fields = match scene::build_field(&model, samples, size, scene::Pyramid::Build(pyramid)) {
         Ok(f) => [f],
         Err(_) => fail("field"),
     };
@@ -355,10 +392,10 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
         fail("open");
     }
     let fd = fd as u32;
-    if write_all(fd, scene::PPM_HEADER).is_err() {
+    if write_all(fd, kind.ppm_header()).is_err() {
         fail("write");
     }
-    let renderer = match scene::Renderer::new(&model, &fields) {
+    let renderer = match scene::Renderer::new(kind, &model, &fields) {
         Ok(r) => r,
         Err(_) => fail("render-setup"),
     };
@@ -373,9 +410,9 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     let render_sp = repaint_below_sp(stack_top);
     // The render: f32 only, so every x87 operation rounds to 24 bits.
     set_x87_precision(0b00);
-    let stats = renderer.render(|_, line| {
-        hash.update(line);
-        write_all(fd, line)
+    let stats = renderer.render(|px| {
+        hash.update(px);
+        write_all(fd, px)
     });
     set_x87_precision(0b10);
     let stats = match stats {
@@ -398,11 +435,43 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
         variant.name(),
         hash.0,
     );
-    let _ = scene::write_sizes(&mut Stdout);
+    let _ = scene::write_sizes(&mut Stdout, kind);
     let _ = Stdout.write_str(" ");
     let _ = scene::write_work(&mut Stdout, &stats);
     let _ = Stdout.write_str("\n");
     exit(0)
+}
+
+/// Inputs [`check_sqrt`] compares per precision setting: every 4093rd
+/// bit pattern, so all exponents, signs, subnormals, infinities and NaNs
+/// are among them.
+const SQRT_CHECKS: u32 = 1 << 20;
+
+/// The `sqrt-check` run: `hfray::math::sqrtf` (`fsqrt` here) against
+/// `libm::sqrtf`, bit for bit, under the x87 precision settings of the
+/// render (24 bits), the setup (53) and the reset default (64); prints
+/// `sqrt_checked=N sqrt_mismatches=M` and exits, non-zero on any mismatch.
+fn check_sqrt() -> ! {
+    let mut mismatches = 0u32;
+    for pc in [0b00, 0b10, 0b11] {
+        set_x87_precision(pc);
+        let mut bits = 0u32;
+        for _ in 0..SQRT_CHECKS {
+            let x = core::hint::black_box(f32::from_bits(bits));
+            let (ours, reference) = (hfray::math::sqrtf(x), libm::sqrtf(x));
+            if ours.to_bits() != reference.to_bits() && !(ours.is_nan() && reference.is_nan()) {
+                mismatches += 1;
+            }
+            bits = bits.wrapping_add(4093);
+        }
+    }
+    set_x87_precision(0b10);
+    let _ = writeln!(
+        Stdout,
+        "board=i486 scene=sqrt-check sqrt_checked={} sqrt_mismatches={mismatches}",
+        3 * SQRT_CHECKS
+    );
+    exit(if mismatches == 0 { 0 } else { 1 })
 }
 
 #[panic_handler]

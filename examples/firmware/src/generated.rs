@@ -1,0 +1,40 @@
+// What `build.rs` precomputes into the Cortex-M flash (the `lcd` and
+// `thesis` skip pyramids, the `thesis` field) and the other programs make at
+// run time, included by both `scene.rs` and `build.rs` so they make the same
+// bytes.
+
+/// Samples per row of the `lcd` scene's field.
+pub const LCD_FIELD_WIDTH: u32 = 152;
+/// Rows of the `lcd` scene's field.
+pub const LCD_FIELD_DEPTH: u32 = 187;
+
+/// Rocky Mountain National Park, 152 × 187 8-bit gray samples (about 233 m
+/// spacing, 2281–4261 m), image row 0 (north) first:
+/// `data/rmnp_co_152x187.u8.raw` (provenance in `data/rmnp_co_152x187.txt`).
+/// In flash on the microcontrollers.
+pub static LCD_FIELD_SAMPLES: [u8; (LCD_FIELD_WIDTH * LCD_FIELD_DEPTH) as usize] =
+    *include_bytes!("../data/rmnp_co_152x187.u8.raw");
+
+/// Side of the `thesis` scene's square field (the thesis's 512 × 512).
+pub const THESIS_SIDE: u32 = 512;
+/// Samples of the `thesis` field.
+pub const THESIS_SAMPLES: usize = (THESIS_SIDE * THESIS_SIDE) as usize;
+
+/// The `thesis` field's generator: `hfray::generate::plasma` (the thesis's
+/// own fractal, §6.2.1.2), integer arithmetic, so the same bytes on every
+/// target. Programs generate it at run time (the i486, the host) or at
+/// build time into flash (the Cortex-M4F, `build.rs`, with this same
+/// function).
+pub fn thesis_field(out: &mut [u8]) -> Result<(), hfray::generate::GenerateError> {
+    let params = hfray::generate::Plasma {
+        roughness: 0.55,
+        seed: 1996,
+    };
+    hfray::generate::plasma(out, THESIS_SIDE, THESIS_SIDE, &params)
+}
+
+/// The skip pyramid every firmware field is walked through: fan-out 4
+/// (4-, 16-, 64-cell blocks, as deep as `SkipLayout::pyramid` goes).
+pub fn skip_layout(width: u32, depth: u32) -> hfray::SkipLayout {
+    hfray::SkipLayout::pyramid(width, depth, 2)
+}
