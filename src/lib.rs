@@ -280,6 +280,8 @@
 
 pub mod camera;
 mod cell;
+#[cfg(feature = "fixed")]
+pub mod fixed_frame;
 pub mod generate;
 pub mod heightfield;
 pub mod pixel;

@@ -274,6 +274,28 @@ fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) ->
     x < x_limit && a >= 1.0 / range && x * a <= range
 }
 
+/// `a · b` exactly, from four 16×16-bit products: ARMv6-M (Cortex-M0) has no
+/// 32×32→64-bit multiply, and the runtime's `__aeabi_lmul` multiplies 64 by
+/// 64 bits (about three times the work).
+#[inline]
+pub fn mul_u32_wide(a: u32, b: u32) -> u64 {
+    let (a0, a1) = (a & 0xffff, a >> 16);
+    let (b0, b1) = (b & 0xffff, b >> 16);
+    let mid = (a0 * b1) as u64 + (a1 * b0) as u64;
+    (((a1 * b1) as u64) << 32) + (mid << 16) + (a0 * b0) as u64
+}
+
+/// `a · b` exactly (see [`mul_u32_wide`]).
+#[inline]
+pub fn mul_i32_wide(a: i32, b: i32) -> i64 {
+    let p = mul_u32_wide(a.unsigned_abs(), b.unsigned_abs()) as i64;
+    if (a < 0) != (b < 0) {
+        -p
+    } else {
+        p
+    }
+}
+
 #[cfg(feature = "fixed")]
 pub use fixed_point::{Q16, Q32};
 
@@ -283,8 +305,24 @@ mod fixed_point {
     use core::ops::{Add, Div, Mul, Neg, Sub};
     use fixed::types::{I16F16, I32F32};
 
+    /// Q16's product: `floor(a·b / 2^16)`, saturated, exactly as
+    /// `I16F16::saturating_mul`, with the 64-bit product from
+    /// [`super::mul_i32_wide`] (the Cortex-M0 has no 64-bit multiply).
+    /// Out of line: the walk multiplies in many places.
+    #[inline(never)]
+    fn mul_q16(a: I16F16, b: I16F16) -> I16F16 {
+        let p = super::mul_i32_wide(a.to_bits(), b.to_bits()) >> 16;
+        I16F16::from_bits(p.clamp(i32::MIN as i64, i32::MAX as i64) as i32)
+    }
+
+    /// Q32's product (`I32F32::saturating_mul`).
+    #[inline]
+    fn mul_q32(a: I32F32, b: I32F32) -> I32F32 {
+        a.saturating_mul(b)
+    }
+
     macro_rules! fixed_real {
-        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr) => {
+        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path) => {
             $(#[$doc])*
             #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
             pub struct $name(pub $inner);
@@ -308,7 +346,7 @@ mod fixed_point {
                 /// Rounds towards −∞ (monotone), saturates.
                 #[inline]
                 fn mul(self, o: Self) -> Self {
-                    $name(self.0.saturating_mul(o.0))
+                    $name($mul(self.0, o.0))
                 }
             }
             impl Div for $name {
@@ -408,7 +446,8 @@ mod fixed_point {
         I16F16,
         i32,
         16,
-        8
+        8,
+        mul_q16
     );
     fixed_real!(
         /// Q31.32 signed fixed point in an `i64` (`fixed::types::I32F32`),
@@ -418,6 +457,7 @@ mod fixed_point {
         I32F32,
         i64,
         32,
-        16
+        16,
+        mul_q32
     );
 }

@@ -379,10 +379,24 @@ fn to_bytes(line: &[Rgb888; WIDTH], bytes: &mut [u8; LINE_BYTES]) {
     }
 }
 
-/// Renders the frame with [`hfray::render::render`], handing each finished
+/// Which renderer draws the frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Frame {
+    /// [`hfray::render::render`]: `f32` per pixel (soft float on a
+    /// Cortex-M0).
+    Float,
+    /// [`hfray::fixed_frame::render`]: integers per pixel, for FPU-less
+    /// chips; the Cortex-M0 firmware's default (`build.rs`). Scenes it does
+    /// not draw (reflection) are refused.
+    Fixed,
+}
+
+/// Renders the frame with `frame`'s renderer, handing each finished
 /// scanline (row 0 first, [`LINE_BYTES`] RGB bytes) to `sink`. Stops at the
 /// first sink error. State: one row of pixels and one of bytes (576 bytes).
+/// The firmware passes a constant `frame`, so only one renderer is linked.
 pub fn render<E>(
+    frame: Frame,
     scene: &FirmwareScene,
     fields: &[HeightField<'_>],
     mut sink: impl FnMut(usize, &[u8]) -> Result<(), E>,
@@ -391,7 +405,7 @@ pub fn render<E>(
     let mut line = [Rgb888::default(); WIDTH];
     let mut bytes = [0u8; LINE_BYTES];
     let mut failed = None;
-    let stats = hfray::render(scene, fields, &settings, &mut line, &mut |y, row| {
+    let mut row_sink = |y: u32, row: &[Rgb888]| {
         let row: &[Rgb888; WIDTH] = match row.try_into() {
             Ok(r) => r,
             Err(_) => return ControlFlow::Break(()),
@@ -404,7 +418,13 @@ pub fn render<E>(
                 ControlFlow::Break(())
             }
         }
-    })
+    };
+    let stats = match frame {
+        Frame::Float => hfray::render(scene, fields, &settings, &mut line, &mut row_sink),
+        Frame::Fixed => {
+            hfray::fixed_frame::render(scene, fields, &settings, &mut line, &mut row_sink)
+        }
+    }
     .map_err(FrameError::Render)?;
     match failed {
         Some(e) => Err(FrameError::Sink(e)),
