@@ -108,17 +108,16 @@ fn rsqrt_q30(x: u32) -> u32 {
 }
 
 /// `v / |v|` in Q30 (each component within ±2^30, truncated towards zero;
-/// about 22 significant bits), zero for a zero vector. `v` is first scaled
+/// about 28 significant bits), zero for a zero vector. `v` is first scaled
 /// by a power of two so its largest component is in `[2^29, 2^30)`, so the
 /// precision does not depend on `v`'s size.
-pub fn unit_q30(v: [i64; 3]) -> [i32; 3] {
+pub fn unit_q30(v: [i32; 3]) -> [i32; 3] {
     let m = v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
     if m == 0 {
         return [0; 3];
     }
-    let top = 63 - m.leading_zeros() as i32;
-    let shift = 29 - top;
-    let w = v.map(|c| if shift >= 0 { c << shift } else { c >> -shift } as i32);
+    let shift = m.leading_zeros() as i32 - 2;
+    let w = v.map(|c| if shift >= 0 { c << shift } else { c >> -shift });
     // n2 = |w|² in [2^58, 2^62); x = n2·4^j in [2^60, 2^62), j in {0, 1}.
     let n2: u64 = w
         .iter()
@@ -128,14 +127,42 @@ pub fn unit_q30(v: [i64; 3]) -> [i32; 3] {
     let x = ((n2 << (2 * j)) >> 30) as u32;
     // 2^61 / |w| = rsqrt_q30(x) · 2^j, in (2^30, 2^32].
     let inv = ((rsqrt_q30(x) as u64) << j).min(u32::MAX as u64) as u32;
-    w.map(|c| {
-        let q = (mul_u32_wide(c.unsigned_abs(), inv) >> 31) as i32;
-        if c < 0 {
-            -q
-        } else {
-            q
-        }
-    })
+    w.map(|c| signed(mul_u32_wide(c.unsigned_abs(), inv) >> 31, c))
+}
+
+/// `magnitude` (below 2^31) with the sign of `like`.
+#[inline]
+fn signed(magnitude: u64, like: i32) -> i32 {
+    let q = magnitude as i32;
+    if like < 0 {
+        -q
+    } else {
+        q
+    }
+}
+
+/// The unit normal `(−a, 1, −b) / √(a² + b² + 1)` of a raw-field quadrant
+/// (slopes `a`, `b` in height units, below 2^16), in Q28: one inverse
+/// square root of the exact squared length.
+#[inline]
+fn quadrant_normal_q28(a: i32, b: i32) -> [i32; 3] {
+    let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
+    let len2 = (ua * ua) as u64 + (ub * ub) as u64 + 1;
+    // x = len2 · 4^-e in [2^30, 2^32).
+    let (x, e) = if len2 >= 1 << 32 {
+        ((len2 >> 2) as u32, 1)
+    } else {
+        let up = (len2 as u32).leading_zeros() & !1;
+        ((len2 as u32) << up, -((up / 2) as i32))
+    };
+    // 2^28 / √len2 = rsqrt_q30(x) / 2^(18 + e), rsqrt_q30(x) = 2^46 / √x.
+    let r = rsqrt_q30(x);
+    let s = (18 + e) as u32;
+    [
+        signed(mul_u32_wide(ua, r) >> s, -a),
+        (r >> s) as i32,
+        signed(mul_u32_wide(ub, r) >> s, -b),
+    ]
 }
 
 /// `v` shifted right by a common amount until every component is below
@@ -587,7 +614,7 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
         if self.lit {
             for light in self.lights.iter() {
                 let to_light = [0, 1, 2].map(|k| light.grid[k] - point[k]);
-                let l = q14(unit_q30(widen(self.to_world.apply(reduce15(to_light)))));
+                let l = q14(unit_q30(self.to_world.apply(reduce15(to_light))));
                 let cos = dot14(n, l);
                 // The float frame lights `cos > 1e-10` (Q28: > 0).
                 if cos <= 0 || to_light == [0; 3] {
@@ -654,7 +681,7 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
     /// A raw-space normal carried to world space and normalised (Q14).
     #[inline]
     fn raw_normal_world(&self, raw: [i32; 3]) -> [i32; 3] {
-        q14(unit_q30(widen(self.normal_to_world.apply(reduce15(raw)))))
+        q14(unit_q30(self.normal_to_world.apply(reduce15(raw))))
     }
 
     /// POV-Ray's smooth normal (Q14, world), as
@@ -678,7 +705,7 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
         };
         let low = lerp(n00, n10, fu);
         let high = lerp(n01, n11, fu);
-        let n = [0, 1, 2].map(|k| (low[k] * (ONE16 - fv) + high[k] * fv) as i64);
+        let n = [0, 1, 2].map(|k| low[k] * (ONE16 - fv) + high[k] * fv);
         q14(unit_q30(n))
     }
 
@@ -694,33 +721,21 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
         };
         let (xi, zi) = (x as i32, z as i32);
         let h0 = field.height_units(x, z) as i32;
-        let mut sum = [0i64; 3];
+        let mut sum = [0i32; 3];
         for (sx, sz) in [(1, 1), (-1, 1), (-1, -1), (1, -1)] {
             let (Some(hx), Some(hz)) = (h(xi + sx, zi), h(xi, zi + sz)) else {
                 continue;
             };
-            let q = unit_q30([-((hx - h0) * sx) as i64, 1, -((hz - h0) * sz) as i64]);
+            let q = quadrant_normal_q28((hx - h0) * sx, (hz - h0) * sz);
             for k in 0..3 {
-                sum[k] += q[k] as i64;
+                sum[k] += q[k];
             }
         }
         let n = unit_q30(sum);
         // (short)(32767·n), truncating towards zero.
-        let q = n.map(|c| {
-            let t = (mul_u32_wide(c.unsigned_abs(), 32767) >> 30) as i32;
-            if c < 0 {
-                -t
-            } else {
-                t
-            }
-        });
+        let q = n.map(|c| signed(mul_u32_wide(c.unsigned_abs(), 32767) >> 30, c));
         self.raw_normal_world(q)
     }
-}
-
-#[inline]
-fn widen(v: [i32; 3]) -> [i64; 3] {
-    v.map(|c| c as i64)
 }
 
 /// Renders `settings.rows` of `scene` into `line` with the fixed-point
@@ -794,6 +809,25 @@ mod tests {
     }
 
     #[test]
+    fn quadrant_normals_are_unit_normals() {
+        for (a, b) in [
+            (0, 0),
+            (1, 0),
+            (-256, 512),
+            (65535, -65535),
+            (3000, 7),
+            (-1, 65535),
+        ] {
+            let n = quadrant_normal_q28(a, b);
+            let f = DVec3::new(-a as f64, 1.0, -b as f64).normalize();
+            for k in 0..3 {
+                let got = n[k] as f64 / (1 << 28) as f64;
+                assert!((got - f[k]).abs() < 1e-7, "({a}, {b}): {n:?} vs {f}");
+            }
+        }
+    }
+
+    #[test]
     fn rsqrt_is_within_2_to_the_minus_26_over_its_range() {
         let mut x = 1u32 << 30;
         while x >= 1 << 30 {
@@ -810,11 +844,12 @@ mod tests {
     #[test]
     fn unit_vectors_have_unit_length() {
         for v in [
-            [3i64, 4, 0],
+            [3, 4, 0],
             [1, 1, 1],
             [-70000, 1, 12],
             [0, 0, -5],
-            [1 << 50, 3, -(1 << 49)],
+            [1 << 30, 3, -(1 << 29)],
+            [i32::MIN, i32::MAX, 0],
         ] {
             let u = unit_q30(v);
             let len: f64 = u

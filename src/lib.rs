@@ -280,7 +280,7 @@
 
 pub mod camera;
 mod cell;
-#[cfg(feature = "fixed")]
+#[cfg(feature = "fixed-frame")]
 pub mod fixed_frame;
 pub mod generate;
 pub mod heightfield;

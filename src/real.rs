@@ -296,10 +296,10 @@ pub fn mul_i32_wide(a: i32, b: i32) -> i64 {
     }
 }
 
-#[cfg(feature = "fixed")]
+#[cfg(feature = "fixed-frame")]
 pub use fixed_point::{Q16, Q32};
 
-#[cfg(feature = "fixed")]
+#[cfg(feature = "fixed-frame")]
 mod fixed_point {
     use super::Real;
     use core::ops::{Add, Div, Mul, Neg, Sub};

@@ -226,7 +226,7 @@ pub enum RenderError {
     },
 }
 
-/// What the fixed-point frame (`crate::fixed_frame`, feature `fixed`)
+/// What the fixed-point frame (`crate::fixed_frame`, feature `fixed-frame`)
 /// leaves out (see [`RenderError::FixedFrame`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FixedLimit {
