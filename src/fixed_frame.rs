@@ -828,6 +828,32 @@ mod tests {
     }
 
     #[test]
+    fn q16_strictness_is_the_f64_condition() {
+        let mut x = 0x2545_f491u32;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x
+        };
+        for _ in 0..200_000 {
+            let o = (next() as i32) >> (next() % 32);
+            let inv = (next() as i32) >> (next() % 32);
+            let lo = ((next() as i32) >> (next() % 32)) >> 16;
+            let hi = lo.saturating_add(((next() >> 1) as i32) >> (next() % 32) >> 16);
+            let (of, invf) = (o as f64 / 65536.0, inv as f64 / 65536.0);
+            let xf = (lo as f64 - of).abs().max((hi as f64 - of).abs());
+            let limit = i32::MAX as f64 / 131072.0;
+            let want = inv != 0 && xf < limit && xf * invf.abs() < limit;
+            assert_eq!(
+                Q16::strict_boundaries(q16(o), q16(inv), lo, hi),
+                want,
+                "{o} {inv} {lo} {hi}"
+            );
+        }
+    }
+
+    #[test]
     fn rsqrt_is_within_2_to_the_minus_26_over_its_range() {
         let mut x = 1u32 << 30;
         while x >= 1 << 30 {

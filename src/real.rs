@@ -321,6 +321,35 @@ mod fixed_point {
         I16F16::from_bits(p.clamp(i32::MIN as i64, i32::MAX as i64) as i32)
     }
 
+    /// Q16's [`Real::strict_boundaries`] condition, `inv ≠ 0`,
+    /// `X < MAX/2` and `X·|inv| < MAX/2` (`X = max |k − origin|` over
+    /// `lo..=hi`), in exact integer arithmetic: Q32's `f64` version is
+    /// software floating point per ray on FPU-less chips. Exact where the
+    /// `f64` product may round.
+    #[inline]
+    fn strict_q16(origin: I16F16, inv: I16F16, lo: i32, hi: i32) -> bool {
+        let o = origin.to_bits() as i64;
+        let x = (((lo as i64) << 16) - o)
+            .unsigned_abs()
+            .max((((hi as i64) << 16) - o).unsigned_abs());
+        let i = inv.to_bits().unsigned_abs();
+        // In Q16 bits: MAX/2 = (2^31 − 1)/2^17, so X < MAX/2 ⟺ 2X < 2^31 − 1
+        // and X·|inv| < MAX/2 ⟺ X·I < (2^31 − 1)·2^15 (X < 2^30: no overflow).
+        i != 0
+            && 2 * x < i32::MAX as u64
+            && super::mul_u32_wide(x as u32, i) < (i32::MAX as u64) << 15
+    }
+
+    /// Q32's [`Real::strict_boundaries`] condition (see [`strict_q16`]), in
+    /// `f64`.
+    #[inline]
+    fn strict_q32(origin: I32F32, inv: I32F32, lo: i32, hi: i32) -> bool {
+        let o = origin.to_num::<f64>();
+        let x = (lo as f64 - o).abs().max((hi as f64 - o).abs());
+        let limit = I32F32::MAX.to_num::<f64>() * 0.5;
+        inv != I32F32::ZERO && x < limit && x * inv.to_num::<f64>().abs() < limit
+    }
+
     /// Q32's product (`I32F32::saturating_mul`).
     #[inline]
     fn mul_q32(a: I32F32, b: I32F32) -> I32F32 {
@@ -328,7 +357,7 @@ mod fixed_point {
     }
 
     macro_rules! fixed_real {
-        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path) => {
+        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path, $strict:path) => {
             $(#[$doc])*
             #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
             pub struct $name(pub $inner);
@@ -432,10 +461,7 @@ mod fixed_point {
                 /// as nothing saturates.
                 #[inline]
                 fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
-                    let o = origin.to_f64();
-                    let x = (lo as f64 - o).abs().max((hi as f64 - o).abs());
-                    let limit = <$inner>::MAX.to_num::<f64>() * 0.5;
-                    inv.0 != <$inner>::ZERO && x < limit && x * inv.to_f64().abs() < limit
+                    $strict(origin.0, inv.0, lo, hi)
                 }
             }
         };
@@ -453,7 +479,8 @@ mod fixed_point {
         i32,
         16,
         8,
-        mul_q16
+        mul_q16,
+        strict_q16
     );
     fixed_real!(
         /// Q31.32 signed fixed point in an `i64` (`fixed::types::I32F32`),
@@ -464,6 +491,7 @@ mod fixed_point {
         i64,
         32,
         16,
-        mul_q32
+        mul_q32,
+        strict_q32
     );
 }
