@@ -5,7 +5,7 @@
 //! streamed.
 //!
 //! ```text
-//! cargo run --release --example firmware_host [-- [--scene NAME] [OUT.ppm]]
+//! cargo run --release --example firmware_host [-- [--scene NAME] [--frame fixed] [OUT.ppm]]
 //! ```
 //!
 //! `NAME` is one of `scene::VARIANTS` (`base`, the default; `reflect-1`,
@@ -18,6 +18,12 @@
 //! Prints `host_checksum=XXXXXXXX scene=NAME hits=N ...` (FNV-1a 32 over the
 //! RGB bytes in row order, then the work counters) and, given a path, writes
 //! the frame there as a binary PPM.
+//!
+//! `--frame fixed`: the frame the Cortex-M0 firmware draws by default,
+//! with `hfray::fixed_frame` (integer arithmetic): its checksum, counters
+//! and bytes are printed and written instead, and the line adds how far it
+//! is from the `f32` frame, per channel (0–255): `mean_abs=X max_abs=Y
+//! px_over_8=N` (`N`: pixels with a channel more than 8 off).
 
 #[path = "firmware/src/scene.rs"]
 mod scene;
@@ -28,6 +34,7 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let mut out = None;
     let mut variant = scene::Variant::Base;
+    let mut frame_kind = scene::Frame::Float;
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
         if arg == "--scene" {
@@ -43,6 +50,15 @@ fn main() -> ExitCode {
                     return ExitCode::FAILURE;
                 }
             }
+        } else if arg == "--frame" {
+            frame_kind = match args.next().as_deref() {
+                Some("fixed") => scene::Frame::Fixed,
+                Some("float") => scene::Frame::Float,
+                other => {
+                    eprintln!("firmware_host: --frame takes fixed or float, not {other:?}");
+                    return ExitCode::FAILURE;
+                }
+            };
         } else {
             out = Some(arg);
         }
@@ -85,13 +101,59 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let (frame, hash, stats) = match render_both(kind, &scene_model, &fields) {
+    let (mut frame, mut hash, mut stats) = match render_both(kind, &scene_model, &fields) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("firmware_host: {e}");
             return ExitCode::FAILURE;
         }
     };
+
+    // The fixed-point frame, measured against the f32 one.
+    let mut error = String::new();
+    if frame_kind == scene::Frame::Fixed {
+        let (width, height) = kind.size();
+        let mut fixed = Vec::with_capacity(frame.len());
+        fixed.extend_from_slice(kind.ppm_header());
+        let mut fixed_hash = scene::Fnv1a::default();
+        let mut line = vec![hfray::Rgb888::default(); width];
+        let fixed_stats = match scene::render(
+            scene::Frame::Fixed,
+            kind,
+            &scene_model,
+            &fields,
+            &mut line,
+            |px| {
+                fixed_hash.update(px);
+                fixed.extend_from_slice(px);
+                Ok::<(), ()>(())
+            },
+        ) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("firmware_host: fixed-point render failed: {e:?}");
+                return ExitCode::FAILURE;
+            }
+        };
+        let header = kind.ppm_header().len();
+        let (a, b) = (&frame[header..], &fixed[header..]);
+        debug_assert_eq!(a.len(), width * height * 3);
+        let diffs: Vec<u32> = a
+            .iter()
+            .zip(b)
+            .map(|(&x, &y)| x.abs_diff(y) as u32)
+            .collect();
+        let mean = diffs.iter().sum::<u32>() as f64 / diffs.len() as f64;
+        let max = diffs.iter().copied().max().unwrap_or(0);
+        let over = diffs
+            .chunks_exact(3)
+            .filter(|p| p.iter().any(|&d| d > 8))
+            .count();
+        error = format!(" mean_abs={mean:.3} max_abs={max} px_over_8={over}");
+        frame = fixed;
+        hash = fixed_hash;
+        stats = fixed_stats;
+    }
 
     if let Some(path) = out {
         if let Err(e) = std::fs::File::create(&path).and_then(|mut f| f.write_all(&frame)) {
@@ -103,7 +165,7 @@ fn main() -> ExitCode {
     // Writing to a String cannot fail.
     let _ = scene::write_work(&mut work, &stats);
     println!(
-        "host_checksum={:08x} scene={} {work}",
+        "host_checksum={:08x} scene={} {work}{error}",
         hash.0,
         variant.name()
     );
@@ -123,11 +185,18 @@ fn render_both(
     frame.extend_from_slice(kind.ppm_header());
     let mut hash = scene::Fnv1a::default();
     let mut line = vec![hfray::Rgb888::default(); width];
-    let stats = scene::render(kind, scene_model, fields, &mut line, |px| {
-        hash.update(px);
-        frame.extend_from_slice(px);
-        Ok::<(), ()>(())
-    })
+    let stats = scene::render(
+        scene::Frame::Float,
+        kind,
+        scene_model,
+        fields,
+        &mut line,
+        |px| {
+            hash.update(px);
+            frame.extend_from_slice(px);
+            Ok::<(), ()>(())
+        },
+    )
     .map_err(|e| format!("render failed: {e:?}"))?;
 
     // 2. The split renderer, as on the i486.

@@ -60,7 +60,7 @@ pub enum HeightConvention {
 
 impl HeightConvention {
     /// Multiplier from a raw sample to height units of 1/65536.
-    const fn multiplier(self) -> u32 {
+    pub(crate) const fn multiplier(self) -> u32 {
         match self {
             HeightConvention::Indexed => 256,
             HeightConvention::Gray8 => 257,

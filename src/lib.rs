@@ -283,6 +283,8 @@
 
 pub mod camera;
 mod cell;
+#[cfg(feature = "fixed-frame")]
+pub mod fixed_frame;
 pub mod generate;
 pub mod heightfield;
 pub mod math;

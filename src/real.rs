@@ -308,17 +308,90 @@ fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) ->
     x < x_limit && a >= 1.0 / range && x * a <= range
 }
 
-#[cfg(feature = "fixed")]
+/// `a · b` exactly, from four 16×16-bit products: ARMv6-M (Cortex-M0) has no
+/// 32×32→64-bit multiply, and the runtime's `__aeabi_lmul` multiplies 64 by
+/// 64 bits (about three times the work).
+#[inline]
+pub fn mul_u32_wide(a: u32, b: u32) -> u64 {
+    let (a0, a1) = (a & 0xffff, a >> 16);
+    let (b0, b1) = (b & 0xffff, b >> 16);
+    let mid = (a0 * b1) as u64 + (a1 * b0) as u64;
+    (((a1 * b1) as u64) << 32) + (mid << 16) + (a0 * b0) as u64
+}
+
+/// `a · b` exactly (see [`mul_u32_wide`]).
+#[inline]
+pub fn mul_i32_wide(a: i32, b: i32) -> i64 {
+    let p = mul_u32_wide(a.unsigned_abs(), b.unsigned_abs()) as i64;
+    if (a < 0) != (b < 0) {
+        -p
+    } else {
+        p
+    }
+}
+
+#[cfg(feature = "fixed-frame")]
 pub use fixed_point::{Q16, Q32};
 
-#[cfg(feature = "fixed")]
+#[cfg(feature = "fixed-frame")]
 mod fixed_point {
     use super::Real;
     use core::ops::{Add, Div, Mul, Neg, Sub};
     use fixed::types::{I16F16, I32F32};
 
+    /// Q16's product: `floor(a·b / 2^16)`, saturated, exactly as
+    /// `I16F16::saturating_mul`, from 16-bit halves (`a = a₁·2^16 + a₀`,
+    /// `a₁` signed, `a₀` unsigned): `a₁b₁·2^16 + a₁b₀ + a₀b₁ + ⌊a₀b₀/2^16⌋`
+    /// is exact because only `a₀b₀` has bits below 2^16. Four 32-bit
+    /// multiplies: the Cortex-M0 has no 64-bit one. Out of line: the walk
+    /// multiplies in many places, and inlined it costs 9 KB of M0 code.
+    #[inline(never)]
+    fn mul_q16(a: I16F16, b: I16F16) -> I16F16 {
+        let (a, b) = (a.to_bits(), b.to_bits());
+        let (a1, a0) = (a >> 16, a & 0xffff);
+        let (b1, b0) = (b >> 16, b & 0xffff);
+        let low = ((a0 as u32 * b0 as u32) >> 16) as i64;
+        let p = (((a1 * b1) as i64) << 16) + (a1 * b0) as i64 + (a0 * b1) as i64 + low;
+        I16F16::from_bits(p.clamp(i32::MIN as i64, i32::MAX as i64) as i32)
+    }
+
+    /// Q16's [`Real::strict_boundaries`] condition, `inv ≠ 0`,
+    /// `X < MAX/2` and `X·|inv| < MAX/2` (`X = max |k − origin|` over
+    /// `lo..=hi`), in exact integer arithmetic: Q32's `f64` version is
+    /// software floating point per ray on FPU-less chips. Exact where the
+    /// `f64` product may round.
+    #[inline]
+    fn strict_q16(origin: I16F16, inv: I16F16, lo: i32, hi: i32) -> bool {
+        let o = origin.to_bits() as i64;
+        let x = (((lo as i64) << 16) - o)
+            .unsigned_abs()
+            .max((((hi as i64) << 16) - o).unsigned_abs());
+        let i = inv.to_bits().unsigned_abs();
+        // In Q16 bits: MAX/2 = (2^31 − 1)/2^17, so X < MAX/2 ⟺ 2X < 2^31 − 1
+        // and X·|inv| < MAX/2 ⟺ X·I < (2^31 − 1)·2^15 (X < 2^30: no overflow).
+        i != 0
+            && 2 * x < i32::MAX as u64
+            && super::mul_u32_wide(x as u32, i) < (i32::MAX as u64) << 15
+    }
+
+    /// Q32's [`Real::strict_boundaries`] condition (see [`strict_q16`]), in
+    /// `f64`.
+    #[inline]
+    fn strict_q32(origin: I32F32, inv: I32F32, lo: i32, hi: i32) -> bool {
+        let o = origin.to_num::<f64>();
+        let x = (lo as f64 - o).abs().max((hi as f64 - o).abs());
+        let limit = I32F32::MAX.to_num::<f64>() * 0.5;
+        inv != I32F32::ZERO && x < limit && x * inv.to_num::<f64>().abs() < limit
+    }
+
+    /// Q32's product (`I32F32::saturating_mul`).
+    #[inline]
+    fn mul_q32(a: I32F32, b: I32F32) -> I32F32 {
+        a.saturating_mul(b)
+    }
+
     macro_rules! fixed_real {
-        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr) => {
+        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path, $strict:path) => {
             $(#[$doc])*
             #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
             pub struct $name(pub $inner);
@@ -342,7 +415,7 @@ mod fixed_point {
                 /// Rounds towards −∞ (monotone), saturates.
                 #[inline]
                 fn mul(self, o: Self) -> Self {
-                    $name(self.0.saturating_mul(o.0))
+                    $name($mul(self.0, o.0))
                 }
             }
             impl Div for $name {
@@ -422,10 +495,7 @@ mod fixed_point {
                 /// as nothing saturates.
                 #[inline]
                 fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
-                    let o = origin.to_f64();
-                    let x = (lo as f64 - o).abs().max((hi as f64 - o).abs());
-                    let limit = <$inner>::MAX.to_num::<f64>() * 0.5;
-                    inv.0 != <$inner>::ZERO && x < limit && x * inv.to_f64().abs() < limit
+                    $strict(origin.0, inv.0, lo, hi)
                 }
             }
         };
@@ -442,7 +512,9 @@ mod fixed_point {
         I16F16,
         i32,
         16,
-        8
+        8,
+        mul_q16,
+        strict_q16
     );
     fixed_real!(
         /// Q31.32 signed fixed point in an `i64` (`fixed::types::I32F32`),
@@ -452,7 +524,9 @@ mod fixed_point {
         I32F32,
         i64,
         32,
-        16
+        16,
+        mul_q32,
+        strict_q32
     );
 }
 

@@ -271,6 +271,12 @@ pub enum RenderError {
         /// Hints given.
         given: usize,
     },
+    /// The fixed-point frame (`crate::fixed_frame`) does not draw this
+    /// scene.
+    FixedFrame {
+        /// What it leaves out.
+        what: FixedLimit,
+    },
     /// A height field disagrees with its object.
     FieldMismatch {
         /// Index of the object.
@@ -280,6 +286,40 @@ pub enum RenderError {
         /// What differs.
         what: FieldMismatch,
     },
+}
+
+/// What the fixed-point frame (`crate::fixed_frame`, feature `fixed-frame`)
+/// leaves out (see [`RenderError::FixedFrame`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FixedLimit {
+    /// The scene must hold exactly one object, a height field.
+    OneHeightField,
+    /// Reflection or transparency.
+    SecondaryRays,
+    /// Phong or specular highlights.
+    Highlights,
+    /// Anti-aliasing (`aa` above 1).
+    Aa,
+    /// More lights than the frame was built for.
+    Lights,
+    /// The camera or a light lies too far from the field for Q16 grid
+    /// coordinates (more than 8192 cells, or 32 object units in height).
+    Range,
+}
+
+impl core::fmt::Display for FixedLimit {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            FixedLimit::OneHeightField => "the scene must be exactly one height field",
+            FixedLimit::SecondaryRays => "reflection and transparency are not drawn",
+            FixedLimit::Highlights => "phong and specular highlights are not drawn",
+            FixedLimit::Aa => "anti-aliasing is not drawn (aa must be 1)",
+            FixedLimit::Lights => "too many lights",
+            FixedLimit::Range => {
+                "the camera or a light is too far from the field for Q16 grid coordinates"
+            }
+        })
+    }
 }
 
 impl From<CameraError> for RenderError {
@@ -325,6 +365,7 @@ impl core::fmt::Display for RenderError {
                 "object {object} reflects or is transparent, but this build leaves secondary \
                  rays out: enable hfray's `secondary-rays` feature"
             ),
+            RenderError::FixedFrame { what } => write!(f, "fixed-point frame: {what}"),
             RenderError::FieldMismatch {
                 object,
                 field_index,
@@ -344,7 +385,7 @@ impl core::fmt::Display for RenderError {
     }
 }
 
-fn check(settings: &RenderSettings, line_len: usize) -> Result<(), RenderError> {
+pub(crate) fn check(settings: &RenderSettings, line_len: usize) -> Result<(), RenderError> {
     if settings.width == 0 || settings.height == 0 {
         return Err(RenderError::EmptyImage);
     }
@@ -377,7 +418,7 @@ fn check(settings: &RenderSettings, line_len: usize) -> Result<(), RenderError> 
 }
 
 /// Runs the rows: fills `line` pixel by pixel, hands it to the sink.
-fn drive<T: Copy>(
+pub(crate) fn drive<T: Copy>(
     settings: &RenderSettings,
     line: &mut [T],
     sink: &mut impl FnMut(u32, &[T]) -> ControlFlow<()>,

@@ -25,6 +25,12 @@ fn main() {
         println!("cargo:rerun-if-changed={f}");
     }
     let target = env::var("TARGET").unwrap_or_default();
+    // The frame's numbers: fixed point on the FPU-less Cortex-M0 unless the
+    // `float-frame` feature asks for f32 (main.rs reads the cfg).
+    println!("cargo:rustc-check-cfg=cfg(fixed_frame)");
+    if target.starts_with("thumbv6m") && env::var_os("CARGO_FEATURE_FLOAT_FRAME").is_none() {
+        println!("cargo:rustc-cfg=fixed_frame");
+    }
     let board = if target.starts_with("thumbv6m") {
         "microbit"
     } else if target.starts_with("thumbv7em") {

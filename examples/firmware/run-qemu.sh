@@ -23,7 +23,13 @@
 #                                      inputs (the 486 at three x87 precisions)
 #   thumbv6m-none-eabi/microbit-minimal[:reflect-5]
 #                                      the minimal M0 build (no secondary rays): the
-#                                      base frame, and reflect-5 refused with NotBuilt
+#                                      base frame, and reflect-5 refused
+# The Cortex-M0's height-field-only and minimal builds draw the fixed-point
+# frame (hfray::fixed_frame, its default): their base frame must equal the
+# host's fixed-point frame (`firmware_host --frame fixed`) byte for byte, the
+# line adds `frame=fixed mean_abs=X max_abs=Y px_over_8=N` (per channel,
+# 0-255, against the host's f32 frame of the same scene), and the mirror
+# scenes are refused (`refused=FixedFrame`). Its `full` build draws in f32.
 # `--base` runs the base scene of the height-field-only build only.
 # `--profile` also prints, under each run's line, the functions that
 # executed the most instructions (`PROFILE_TOP`, default 12), symbolised
@@ -208,8 +214,25 @@ scenes=(base)
 for s in "${scenes[@]}"; do host "$s"; done
 cp "$out/frame-host-base.ppm" "$out/frame-host.ppm"
 
+# --- host reference of the fixed-point frame (the Cortex-M0's default) -------
+# Keyed `fixed:SCENE`, with the frame in frame-host-fixed:SCENE.ppm; fixed_error
+# holds its distance from the f32 frame (mean_abs=.. max_abs=.. px_over_8=..).
+# The scenes the fixed-point frame draws (the others have mirrors).
+declare -A fixed_error
+fixed_scenes=(base)
+((all)) && fixed_scenes+=(lcd)
+for s in "${fixed_scenes[@]}"; do
+    line="$(cd "$out" && "$host_bin" --scene "$s" --frame fixed "$out/frame-host-fixed:$s.ppm")" ||
+        { echo "run-qemu.sh: host fixed-point reference failed for scene $s" >&2; exit 1; }
+    host_sum[fixed:$s]="$(field host_checksum "$line")"
+    host_work[fixed:$s]="$(work "$line")"
+    fixed_error[$s]="mean_abs=$(field mean_abs "$line") max_abs=$(field max_abs "$line") px_over_8=$(field px_over_8 "$line")"
+done
+# frame_uses_fixed BOARD BUILD: the build draws the fixed-point frame.
+frame_uses_fixed() { [[ "$1" == microbit && "$2" != full ]]; }
+
 # compare WHAT SCENE LINE PPM: checks the checksum, the frame bytes and the
-# work counters against the host's.
+# work counters against the host's (SCENE `fixed:NAME`: its fixed-point frame).
 compare() {
     local t="$1" scene="$2" line="$3" ppm="$4" sum
     sum="$(field frame_checksum "$line")"
@@ -263,14 +286,27 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
             -semihosting-config "enable=on,target=native,arg=hfray-firmware,arg=$scene" \
             -plugin "$plugin,out=$out/insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" \
             -kernel "$elf")"; then
-            fail "$t: qemu-system-arm exited non-zero: $line"
+            # The fixed-point frame draws no mirrors: refused, never drawn otherwise.
+            if frame_uses_fixed "$board" "$build" && [[ -z "${fixed_error[$scene]+set}" && "$line" == *"error=render:FixedFrame"* ]]; then
+                echo "target=$t refused=FixedFrame scene=$scene build=$build"
+            else
+                fail "$t: qemu-system-arm exited non-zero: $line"
+            fi
             continue
         fi
         mv -f "$scratch/frame-$board.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
-        compare "$t" "$scene" "$line" "$ppm"
+        ref="$scene" extra=""
+        if frame_uses_fixed "$board" "$build"; then
+            if [[ -z "${fixed_error[$scene]+set}" ]]; then
+                fail "$t: expected error=render:FixedFrame, got: $line"
+                continue
+            fi
+            ref="fixed:$scene" extra=" frame=fixed ${fixed_error[$scene]}"
+        fi
+        compare "$t" "$ref" "$line" "$ppm"
         insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
         vfp="$(sed -n 's/.*vfp(cp10\/11)=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
-        echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[$scene]}" \
+        echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[$ref]}" \
             "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
             "instructions=${insns:-?} vfp_instructions=${vfp:-?} rodata_bytes=$(section_size "$elf" .rodata)" \
             "image_bytes=$(image_bytes "$elf") stack_limit_bytes=$(field stack_limit_bytes "$line")" \
@@ -278,7 +314,7 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
             "setup_stack_bytes=$(field setup_stack_bytes "$line")" \
             "model_bytes=$(field model_bytes "$line") heightfield_bytes=$(field heightfield_bytes "$line")" \
             "tracer_bytes=$(field tracer_bytes "$line") line_bytes=$(field line_bytes "$line")" \
-            "scene=$scene build=$build $(work "$line")"
+            "scene=$scene build=$build $(work "$line")$extra"
         profile "$t" "$out/insns-$tag.txt" "$elf"
     done
 done
@@ -298,8 +334,9 @@ fi
 
 # --- minimal M0 build: the same base frame; a mirror scene is refused -------
 # Built without `secondary-rays`, the firmware must draw the base frame
-# byte for byte and answer the reflect-5 scene with `NotBuilt`, never with a
-# different picture.
+# byte for byte (the fixed-point frame, the M0's default) and refuse the
+# reflect-5 scene (`FixedFrame`; `NotBuilt` in f32), never draw a different
+# picture.
 if ((all)); then
     elf="$fw_min_dir/thumbv6m-none-eabi/release/hfray-firmware"
     for scene in base reflect-5; do
@@ -315,15 +352,16 @@ if ((all)); then
         if [[ "$scene" == base ]]; then
             ppm="$out/frame-microbit-minimal.ppm"
             mv -f "$scratch/frame-microbit.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
-            compare "$t" base "$line" "$ppm"
-            echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[base]}" \
+            compare "$t" fixed:base "$line" "$ppm"
+            echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[fixed:base]}" \
                 "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
-                "instructions=${insns:-?} image_bytes=$(image_bytes "$elf") scene=base build=minimal $(work "$line")"
+                "instructions=${insns:-?} image_bytes=$(image_bytes "$elf") scene=base build=minimal $(work "$line")" \
+                "frame=fixed ${fixed_error[base]}"
             profile "$t" "$out/insns-$tag.txt" "$elf"
-        elif [[ "$line" == *"error=render:NotBuilt"* ]]; then
-            echo "target=$t refused=NotBuilt scene=$scene build=minimal"
+        elif [[ "$line" == *"error=render:FixedFrame"* || "$line" == *"error=render:NotBuilt"* ]]; then
+            echo "target=$t refused=$(sed -n 's/.*error=render:\([A-Za-z]*\).*/\1/p' <<<"$line") scene=$scene build=minimal"
         else
-            fail "$t: expected error=render:NotBuilt, got: $line"
+            fail "$t: expected error=render:FixedFrame or NotBuilt, got: $line"
         fi
     done
 fi

@@ -50,6 +50,13 @@ use cortex_m_semihosting::{debug, hio, nr, syscall};
 /// Board name, from `build.rs` (follows the target).
 const BOARD: &str = env!("HFRAY_BOARD");
 
+/// The renderer: the fixed-point frame on the FPU-less Cortex-M0 (set by
+/// `build.rs` unless the `float-frame` feature is on), `f32` elsewhere.
+#[cfg(fixed_frame)]
+const FRAME: scene::Frame = scene::Frame::Fixed;
+#[cfg(not(fixed_frame))]
+const FRAME: scene::Frame = scene::Frame::Float;
+
 /// A host file opened through semihosting.
 struct HostFile {
     handle: usize,
@@ -268,7 +275,7 @@ fn main() -> ! {
     // Total use since reset so far (setup), then measure the render alone.
     let setup_low = lowest_used_stack_address();
     let render_sp = repaint_below_sp();
-    let stats = scene::render(kind, &model, &fields, &mut line, |px| {
+    let stats = scene::render(FRAME, kind, &model, &fields, &mut line, |px| {
         hash.update(px);
         file.write_all(px)
     });
@@ -303,7 +310,7 @@ fn main() -> ! {
     let render_peak = top - render_low;
     let _ = write!(
         out,
-        "board={BOARD} scene={} frame_checksum={:08x} stack_bytes={used} \
+        "board={BOARD} scene={} frame={FRAME:?} frame_checksum={:08x} stack_bytes={used} \
          render_stack_bytes={render_used} render_peak_stack_bytes={render_peak} \
          setup_stack_bytes={setup_used} stack_limit_bytes={limit} ",
         variant.name(),

@@ -583,11 +583,25 @@ fn shown(p: Rgb888, rgb565: bool) -> [u8; 3] {
     }
 }
 
-/// Renders the frame of `kind` with [`hfray::render::render`] into `line`
-/// (the caller's row buffer, at least the frame's width: one buffer serves
-/// every frame size), handing each pixel's RGB bytes to `sink`, row 0
-/// first, left to right. Stops at the first sink error.
+/// Which renderer draws the frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Frame {
+    /// [`hfray::render::render`]: `f32` per pixel (soft float on a
+    /// Cortex-M0).
+    Float,
+    /// [`hfray::fixed_frame::render`]: integers per pixel, for FPU-less
+    /// chips; the Cortex-M0 firmware's default (`build.rs`). Scenes it does
+    /// not draw (reflection) are refused.
+    Fixed,
+}
+
+/// Renders the frame of `kind` with `frame`'s renderer into `line` (the
+/// caller's row buffer, at least the frame's width: one buffer serves every
+/// frame size), handing each pixel's RGB bytes to `sink`, row 0 first, left
+/// to right. Stops at the first sink error. The firmware passes a constant
+/// `frame`, so only one renderer is linked.
 pub fn render<E>(
+    frame: Frame,
     kind: FrameKind,
     scene: &FirmwareScene,
     fields: &[HeightField<'_>],
@@ -601,7 +615,7 @@ pub fn render<E>(
         .ok_or(FrameError::Render(RenderError::EmptyImage))?;
     let mut failed = None;
     let rgb565 = kind == FrameKind::Lcd;
-    let stats = hfray::render(scene, fields, &settings, line, &mut |_, row| {
+    let mut row_sink = |_: u32, row: &[Rgb888]| {
         for p in row {
             if let Err(e) = sink(&shown(*p, rgb565)) {
                 failed = Some(e);
@@ -609,7 +623,11 @@ pub fn render<E>(
             }
         }
         ControlFlow::Continue(())
-    })
+    };
+    let stats = match frame {
+        Frame::Float => hfray::render(scene, fields, &settings, line, &mut row_sink),
+        Frame::Fixed => hfray::fixed_frame::render(scene, fields, &settings, line, &mut row_sink),
+    }
     .map_err(FrameError::Render)?;
     match failed {
         Some(e) => Err(FrameError::Sink(e)),
