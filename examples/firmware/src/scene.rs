@@ -500,6 +500,7 @@ pub fn scene_error_name(e: &SceneError) -> &'static str {
 pub fn render_error_name(e: &RenderError) -> &'static str {
     match e {
         RenderError::NotBuilt { .. } => "NotBuilt",
+        RenderError::FixedFrame { .. } => "FixedFrame",
         RenderError::Camera(_) => "Camera",
         RenderError::Shape { .. } => "Shape",
         RenderError::MissingField { .. } => "MissingField",
