@@ -37,8 +37,10 @@
 //! ];
 //!
 //! // The unit cube, scaled to 2 × 0.6 × 2 and centred on the origin.
-//! let place = Transform::scale(DVec3::new(2.0, 0.6, 2.0))
-//!     .and_then(|s| Ok(s.then(&Transform::translate(DVec3::new(-1.0, 0.0, -1.0))?)))
+//! let place = Transform::builder()
+//!     .scale(DVec3::new(2.0, 0.6, 2.0))
+//!     .translate(DVec3::new(-1.0, 0.0, -1.0))
+//!     .build()
 //!     .expect("finite, invertible");
 //! let field = HeightField::new(Samples::U8(&TERRAIN), 5, 5, HeightConvention::Indexed)
 //!     .expect("5 × 5 samples")
@@ -46,11 +48,8 @@
 //!
 //! // Room for 2 objects and 1 light, fixed at compile time.
 //! let mut scene: Scene<'static, 2, 1> = Scene::default();
-//! scene.camera = CameraDesc {
-//!     location: Vec3::new(0.0, 1.6, -2.6),
-//!     look_at: Vec3::new(0.0, 0.2, 0.0),
-//!     ..CameraDesc::default()
-//! };
+//! let eye = Vec3::new(0.0, 1.6, -2.6);
+//! scene.camera = CameraDesc::looking_at(eye, Vec3::new(0.0, 0.2, 0.0), 32.0 / 24.0);
 //! scene.background = Vec3::new(0.5, 0.7, 0.9);
 //! let sun = Light { position: Vec3::new(-4.0, 6.0, -3.0), color: Vec3::ONE };
 //! scene.lights.push(sun).expect("capacity 1");
@@ -247,7 +246,7 @@
 //!
 //! A render needs the samples (borrowed, wherever they are), the scene
 //! (its capacities fixed at compile time), one line buffer, and a constant
-//! amount of stack (the [`Tracer`], [`Tracer::SIZE`] bytes, plus the fixed
+//! amount of stack (the [`Tracer`], `Tracer::<OBJECTS>::SIZE` bytes, plus the fixed
 //! frames of the walk and the shading loop): nothing grows with the image
 //! size, the field size or `max_trace_level`.
 //!
@@ -269,8 +268,9 @@
 //!   `fixed` crate); `f64-walk` (default): the `f64` walk.
 //! - `embedded-graphics`: [`sink`]'s `DrawTargetSink` for
 //!   `embedded-graphics-core` `DrawTarget`s (no_std).
-//! - `std`: enables nothing yet (reserved for `std::error::Error` impls);
-//!   the core never needs it.
+//! - `std`: enables nothing yet; the core never needs it (every public
+//!   error type implements `core::error::Error`, which is
+//!   `std::error::Error`).
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]

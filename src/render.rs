@@ -148,7 +148,8 @@ pub enum FieldMismatch {
     Transform,
     /// The object's `water_level` differs from the field's.
     WaterLevel,
-    /// `palette_colors` without a palette, or with 16-bit samples.
+    /// `palette_colors`, but the field has no palette (16-bit fields
+    /// cannot have one: [`HeightField::with_palette`] refuses them).
     Palette,
 }
 
@@ -271,12 +272,18 @@ impl core::fmt::Display for RenderError {
                         "has a different transform than its object (build it with with_transform)",
                     FieldMismatch::WaterLevel => "has a different water_level than its object",
                     FieldMismatch::Palette =>
-                        "needs an 8-bit palette for palette colours but has none",
+                        "has no palette, but its object asks for palette colours (attach one \
+                         with with_palette)",
                 }
             ),
         }
     }
 }
+
+// The messages of the camera and shape errors are part of this one's
+// Display, so they are not also given as `source` (a chain would print
+// them twice).
+impl core::error::Error for RenderError {}
 
 fn check(settings: &RenderSettings, line_len: usize) -> Result<(), RenderError> {
     if settings.width == 0 || settings.height == 0 {

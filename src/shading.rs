@@ -210,7 +210,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// shape, a `field_index` with no field, or a field that disagrees with
     /// its object (a transform other than the object's, when the object's
     /// is not the identity; a different water level; `palette_colors`
-    /// without a palette or with 16-bit samples).
+    /// without a palette).
     pub fn new<const LIGHTS: usize>(
         scene: &'a Scene<'_, OBJECTS, LIGHTS>,
         fields: &'a [HeightField<'a>],
@@ -252,10 +252,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 if water_level != field.water_level() {
                     return Err(mismatch(FieldMismatch::WaterLevel));
                 }
-                if palette_colors
-                    && (field.palette().is_none()
-                        || !matches!(field.samples(), crate::heightfield::Samples::U8(_)))
-                {
+                if palette_colors && field.palette().is_none() {
                     return Err(mismatch(FieldMismatch::Palette));
                 }
                 smooth = s;

@@ -328,7 +328,8 @@ fn accessors_outside_the_grid_answer_none_not_a_panic() {
     let palette = [[7u8; 3]; 256];
     let field = HeightField::new(Samples::U8(&data), 3, 2, HeightConvention::Indexed)
         .unwrap()
-        .with_palette(&palette);
+        .with_palette(&palette)
+        .unwrap();
     // Vertices: 3 × 2; grid row 0 is image row 1.
     assert_eq!(field.height(0, 0), Some(40.0 / 256.0));
     assert_eq!(field.height(2, 1), Some(30.0 / 256.0));

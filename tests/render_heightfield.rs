@@ -202,7 +202,8 @@ fn palette_colours_are_the_mean_of_the_triangle_vertices() {
     palette[3] = [255, 255, 255];
     let field = HeightField::new(Samples::U8(&samples), 2, 2, HeightConvention::Indexed)
         .unwrap()
-        .with_palette(&palette);
+        .with_palette(&palette)
+        .unwrap();
     let obj = field_object(
         0,
         false,

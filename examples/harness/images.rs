@@ -222,7 +222,7 @@ impl LoadedField {
     pub fn height_field(&self) -> Result<HeightField<'_>, HeightFieldError> {
         let field = HeightField::new(self.samples(), self.width, self.depth, self.convention)?;
         Ok(match &self.palette {
-            Some(p) => field.with_palette(p),
+            Some(p) => field.with_palette(p)?,
             None => field,
         })
     }

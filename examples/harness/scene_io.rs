@@ -126,7 +126,11 @@ pub fn build_fields<'d>(
         }
         if palette_colors {
             match data.palette() {
-                Some(palette) => field = field.with_palette(palette),
+                Some(palette) => {
+                    field = field
+                        .with_palette(palette)
+                        .map_err(|e| format!("{path}: {e}"))?
+                }
                 None => {
                     return Err(format!(
                         "{path}: image_map (palette colouring) needs an indexed image (GIF or palette PNG)"

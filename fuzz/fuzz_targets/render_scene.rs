@@ -106,7 +106,7 @@ fn fields<'a>(
             .ok()?
             .with_transform(object.transform);
         if palette_colors {
-            f = f.with_palette(palette);
+            f = f.with_palette(palette).ok()?;
         }
         if out.len() <= field_index {
             out.resize(field_index + 1, None);

@@ -82,6 +82,8 @@ impl core::fmt::Display for ShapeError {
     }
 }
 
+impl core::error::Error for ShapeError {}
+
 /// Real roots of `a·t² + 2·b·t + c = 0` in the numerically stable form.
 /// With `a = 0` one root is the linear solution `−c / 2b` and the other is
 /// not finite; callers skip non-finite roots.

@@ -276,10 +276,16 @@ pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
     Ok(scene)
 }
 
-/// Bytes of the field's skip pyramid ([`SkipLayout::pyramid`] with
-/// fan-out 4: 4- and 16-cell blocks): a 16-byte header and
-/// `2 × (22·15 + 6·4)` bytes of block bounds.
-pub const SKIP_BYTES: usize = 724;
+/// The field's skip pyramid: fan-out 4 (4- and 16-cell blocks).
+pub const SKIP_LAYOUT: SkipLayout = SkipLayout::pyramid(FIELD_WIDTH, FIELD_DEPTH, 2);
+
+/// Bytes of the skip pyramid (724: a 16-byte header and
+/// `2 × (22·15 + 6·4)` bytes of block bounds), computed from the layout.
+pub const SKIP_BYTES: usize = match SkipGrid::bytes_needed(FIELD_WIDTH, FIELD_DEPTH, 1, SKIP_LAYOUT)
+{
+    Ok(bytes) => bytes,
+    Err(_) => panic!("invalid skip layout"),
+};
 
 /// The height field the scene's object 0 refers to, over the flash samples,
 /// walked through a skip pyramid built into `skip` (the caller's memory, on
@@ -301,11 +307,7 @@ pub fn build_field<'a>(
         HeightConvention::Gray8,
     )?
     .with_transform(transform);
-    let grid = SkipGrid::build(
-        &field,
-        SkipLayout::pyramid(FIELD_WIDTH, FIELD_DEPTH, 2),
-        skip,
-    )?;
+    let grid = SkipGrid::build(&field, SKIP_LAYOUT, skip)?;
     Ok(field.with_skip(grid)?)
 }
 
