@@ -10,8 +10,10 @@
 //!
 //! - `C` is the pigment colour (or, for a height field with
 //!   `palette_colors`, the mean of the hit triangle's three vertex palette
-//!   colours, keeping the pigment's filter and transmit); `f`, `t` are its
-//!   filter and transmit; `att = 1 − f − t` (POV-Ray 3.7's opacity).
+//!   colours, keeping the pigment's filter and transmit; for a `gradient`
+//!   pigment, its `color_map` at the hit point, filter and transmit
+//!   included); `f`, `t` are its filter and transmit; `att = 1 − f − t`
+//!   (POV-Ray 3.7's opacity).
 //! - ambient: `C · finish.ambient · global ambient_light · att`.
 //! - for each light whose direction `L` satisfies `N·L > 0` (`N`: shading
 //!   normal flipped to face the viewer; no back lighting) and which a
@@ -81,7 +83,7 @@ use crate::heightfield::HeightField;
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::render::{FieldMismatch, RenderError, Stats, MAX_AA};
-use crate::scene::{Finish, Light, Pigment, Scene, Shape};
+use crate::scene::{Finish, Gradient, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
 use crate::transform::Transform;
 use crate::traversal::Counters;
@@ -163,9 +165,14 @@ struct Pending {
 
 /// One scene object ready for tracing.
 #[derive(Debug, Clone, Copy)]
-struct Prepared {
+struct Prepared<'a> {
     placed: Placed,
-    pigment: Pigment,
+    /// Borrowed from the scene: a colour map is too large to copy per
+    /// object.
+    pigment: &'a Pigment,
+    /// A gradient pigment's linear value in world space, `direction·p +
+    /// offset` (the object's transform folded in once, here).
+    gradient_world: (Vec3, f32),
     finish: Finish,
     /// `1 / roughness`.
     specular_exponent: f32,
@@ -183,13 +190,21 @@ struct Prepared {
 /// borrows the scene's lights and the caller's height fields.
 #[derive(Debug, Clone)]
 pub struct Tracer<'a, const OBJECTS: usize> {
-    objects: Vec<Prepared, OBJECTS>,
+    objects: Vec<Prepared<'a>, OBJECTS>,
     fields: &'a [HeightField<'a>],
     lights: &'a [Light],
     background: Vec3,
     ambient_light: Vec3,
     max_trace_level: u32,
     any_transparent: bool,
+}
+
+/// A pigment evaluated at a point.
+#[derive(Debug, Clone, Copy)]
+struct Paint {
+    color: Vec3,
+    filter: f32,
+    transmit: f32,
 }
 
 /// Everything known about the nearest hit of a ray.
@@ -215,7 +230,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         scene: &'a Scene<'_, OBJECTS, LIGHTS>,
         fields: &'a [HeightField<'a>],
     ) -> Result<Self, RenderError> {
-        let mut objects: Vec<Prepared, OBJECTS> = Vec::new();
+        let mut objects: Vec<Prepared<'a>, OBJECTS> = Vec::new();
         let mut any_transparent = false;
         for (index, object) in scene.objects.iter().enumerate() {
             let primitive =
@@ -260,9 +275,13 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 field_index = fi;
                 field_up = field.transform().to_world().matrix3.y_axis.as_vec3();
             }
-            let pigment = object.pigment;
+            let pigment = &object.pigment;
             let finish = object.finish;
-            let opaque = pigment.filter == 0.0 && pigment.transmit == 0.0;
+            let opaque = pigment.is_opaque();
+            let gradient_world = pigment.gradient.map_or((Vec3::ZERO, 0.0), |g| {
+                let world = g.transformed(&object.transform);
+                (world.direction, world.offset)
+            });
             let reflective = finish.reflection.max_element() > 0.0;
             if !cfg!(feature = "secondary-rays") && (reflective || !opaque) {
                 return Err(RenderError::NotBuilt { object: index });
@@ -271,6 +290,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let prepared = Prepared {
                 placed: Placed::new(primitive, &object.transform),
                 pigment,
+                gradient_world,
                 finish,
                 specular_exponent: 1.0 / finish.roughness,
                 opaque,
@@ -412,9 +432,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             geometric
         };
 
-        let colour = self.surface_colour(obj, hit);
-        let f = obj.pigment.filter;
-        let t = obj.pigment.transmit;
+        let Paint {
+            color: colour,
+            filter: f,
+            transmit: t,
+        } = self.surface_colour(obj, hit);
         let att = 1.0 - f - t;
         let finish = &obj.finish;
 
@@ -470,9 +492,28 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         local
     }
 
-    /// Pigment colour at a hit (palette colouring for height fields).
+    /// Pigment colour, filter and transmit at a hit (a gradient's colour
+    /// map at the point; palette colouring for height fields).
     #[inline]
-    fn surface_colour(&self, obj: &Prepared, hit: &WorldHit) -> Vec3 {
+    fn surface_colour(&self, obj: &Prepared, hit: &WorldHit) -> Paint {
+        let pigment = obj.pigment;
+        let mut paint = match &pigment.gradient {
+            Some(g) => {
+                let (direction, offset) = obj.gradient_world;
+                let value = Gradient::wave(direction.dot(hit.point) + offset);
+                let entry = g.color_map.at(value);
+                Paint {
+                    color: entry.color,
+                    filter: entry.filter,
+                    transmit: entry.transmit,
+                }
+            }
+            None => Paint {
+                color: pigment.color,
+                filter: pigment.filter,
+                transmit: pigment.transmit,
+            },
+        };
         if obj.palette {
             if let Some(fh) = &hit.field {
                 if let Some(c) = self.fields[obj.field_index].triangle_palette_color(
@@ -480,11 +521,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                     fh.cell_z,
                     fh.triangle,
                 ) {
-                    return c;
+                    paint.color = c;
                 }
             }
         }
-        obj.pigment.color
+        paint
     }
 
     /// Diffuse, phong and specular from one light.
@@ -590,8 +631,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 };
                 crossings += 1;
                 filtered = true;
-                let sc = self.surface_colour(o, &h);
-                c *= sc * o.pigment.filter + Vec3::splat(o.pigment.transmit);
+                let paint = self.surface_colour(o, &h);
+                c *= paint.color * paint.filter + Vec3::splat(paint.transmit);
                 if c.abs().max_element() < 1e-10 {
                     stats.shadow_hits += 1;
                     return Vec3::ZERO;

@@ -626,7 +626,8 @@ sphere { 0, 1 no_shadow interior { ior 1.5 } hollow on
             "4:15: unsupported `no_shadow` in sphere: skipped",
             "4:25: unsupported `interior` in sphere: skipped",
             "4:46: unsupported `hollow` in sphere: skipped",
-            "5:13: unsupported `checker` in pigment (only flat colours): skipped",
+            "5:13: unsupported `checker` in pigment (only flat colours and gradient with a color_map): \
+             skipped",
             "6:12: unsupported `brilliance` in finish: skipped",
         ]
     );

@@ -7,7 +7,7 @@
 //! caller loads the images and hands the renderer one
 //! [`HeightField`](crate::HeightField) per index.
 
-use glam::Vec3;
+use glam::{DAffine3, Vec3};
 use heapless::Vec;
 
 use crate::transform::Transform;
@@ -73,7 +73,8 @@ pub struct Light {
     pub color: Color,
 }
 
-/// `pigment { color rgb/rgbf/rgbt/rgbft <..> }`.
+/// `pigment { color rgb/rgbf/rgbt/rgbft <..> }`, or with
+/// [`gradient`](Self::gradient) a colour that varies over the surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pigment {
     /// Surface colour.
@@ -82,6 +83,10 @@ pub struct Pigment {
     pub filter: f32,
     /// `transmit`: share of light passing through untinted.
     pub transmit: f32,
+    /// `gradient .. color_map { .. }`: when set, the colour, filter and
+    /// transmit at each point come from it, and the three fields above are
+    /// not used.
+    pub gradient: Option<Gradient>,
 }
 
 impl Default for Pigment {
@@ -91,6 +96,188 @@ impl Default for Pigment {
             color: Vec3::ZERO,
             filter: 0.0,
             transmit: 0.0,
+            gradient: None,
+        }
+    }
+}
+
+impl Pigment {
+    /// Whether no point of the surface lets light through (every filter
+    /// and transmit zero).
+    pub fn is_opaque(&self) -> bool {
+        match &self.gradient {
+            Some(g) => g
+                .color_map
+                .entries()
+                .iter()
+                .all(|e| e.filter == 0.0 && e.transmit == 0.0),
+            None => self.filter == 0.0 && self.transmit == 0.0,
+        }
+    }
+}
+
+/// The most entries a [`ColorMap`] holds (POV-Ray allows 256; terrain
+/// maps use a handful, and each entry costs 24 bytes in every object).
+pub const MAX_COLOR_MAP_ENTRIES: usize = 8;
+
+/// One `[value color ..]` of a `color_map`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ColorMapEntry {
+    /// Where in the pattern's `0..1` this colour is.
+    pub value: f32,
+    /// Colour.
+    pub color: Color,
+    /// Filter.
+    pub filter: f32,
+    /// Transmit.
+    pub transmit: f32,
+}
+
+/// `color_map { [v color ..] … }`: colours at pattern values, in
+/// non-decreasing value order, interpolated linearly between entries
+/// (POV-Ray 3.7's blend map).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColorMap {
+    entries: [ColorMapEntry; MAX_COLOR_MAP_ENTRIES],
+    len: u8,
+}
+
+impl ColorMap {
+    /// POV-Ray's map for a pattern given none: black at 0 to white at 1.
+    pub const GRAY: ColorMap = {
+        let mut entries = [ColorMapEntry {
+            value: 0.0,
+            color: Vec3::ZERO,
+            filter: 0.0,
+            transmit: 0.0,
+        }; MAX_COLOR_MAP_ENTRIES];
+        entries[1] = ColorMapEntry {
+            value: 1.0,
+            color: Vec3::ONE,
+            filter: 0.0,
+            transmit: 0.0,
+        };
+        ColorMap { entries, len: 2 }
+    };
+
+    /// A map of `entries`; `None` if there are none, more than
+    /// [`MAX_COLOR_MAP_ENTRIES`], or their values decrease or are not
+    /// finite.
+    pub fn new(entries: &[ColorMapEntry]) -> Option<ColorMap> {
+        if entries.is_empty() || entries.len() > MAX_COLOR_MAP_ENTRIES {
+            return None;
+        }
+        let ordered = entries.windows(2).all(|w| w[0].value <= w[1].value);
+        if !ordered || !entries.iter().all(|e| e.value.is_finite()) {
+            return None;
+        }
+        let mut map = ColorMap {
+            entries: [ColorMapEntry::default(); MAX_COLOR_MAP_ENTRIES],
+            len: entries.len() as u8,
+        };
+        map.entries[..entries.len()].copy_from_slice(entries);
+        Some(map)
+    }
+
+    /// The entries, in value order.
+    pub fn entries(&self) -> &[ColorMapEntry] {
+        &self.entries[..self.len as usize]
+    }
+
+    /// The colour at pattern value `value`: the first entry's at or below
+    /// its value, the last's at or above its value, linear in between
+    /// (colour, filter and transmit alike). Where two entries share a value
+    /// the colour steps there.
+    pub fn at(&self, value: f32) -> ColorMapEntry {
+        let entries = self.entries();
+        let first = entries[0];
+        if !(value > first.value) {
+            return first;
+        }
+        // Bound: at most MAX_COLOR_MAP_ENTRIES steps.
+        for pair in entries.windows(2) {
+            let (lo, hi) = (pair[0], pair[1]);
+            if value <= hi.value {
+                let w = (value - lo.value) / (hi.value - lo.value);
+                let mix = |a: f32, b: f32| a + (b - a) * w;
+                return ColorMapEntry {
+                    value,
+                    color: lo.color + (hi.color - lo.color) * w,
+                    filter: mix(lo.filter, hi.filter),
+                    transmit: mix(lo.transmit, hi.transmit),
+                };
+            }
+        }
+        entries[entries.len() - 1]
+    }
+}
+
+/// `gradient <v>` with its `color_map`, in object space: the pattern
+/// value at object-space point `p` is `direction·p + offset`, repeated
+/// each unit (POV-Ray's ramp wave), then looked up in the map. A pigment's
+/// own transforms and those the object had before the pigment was written
+/// are folded into `direction` and `offset`; the object's later transforms
+/// move the pattern with the object, as in POV-Ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gradient {
+    /// The gradient's direction (unit length for `gradient x|y|z` on an
+    /// untransformed object), in object space.
+    pub direction: Vec3,
+    /// The pattern value at the object-space origin.
+    pub offset: f32,
+    /// The colours.
+    pub color_map: ColorMap,
+}
+
+impl Gradient {
+    /// `gradient axis` (normalised, as POV-Ray does) with `color_map`, in
+    /// the object's own space: it moves with the object.
+    pub fn along(axis: Vec3, color_map: ColorMap) -> Gradient {
+        Gradient {
+            direction: axis.normalize_or_zero(),
+            offset: 0.0,
+            color_map,
+        }
+    }
+
+    /// The same pattern moved by `t`, as a transform written after it
+    /// moves it: the new value at `q` is the old one at `t⁻¹(q)`.
+    pub fn transformed(&self, t: &Transform) -> Gradient {
+        self.composed_with(t.to_object())
+    }
+
+    /// The same pattern in the coordinates `t` maps from: the new value at
+    /// `p` is the old one at `t(p)` (a pattern given in world space, seen
+    /// in the space of an object placed by `t`).
+    pub fn pulled_back(&self, t: &Transform) -> Gradient {
+        self.composed_with(t.to_world())
+    }
+
+    /// `v'(p) = v(m·p)`, in `f64`.
+    fn composed_with(&self, m: &DAffine3) -> Gradient {
+        let d = self.direction.as_dvec3();
+        Gradient {
+            direction: (m.matrix3.transpose() * d).as_vec3(),
+            offset: (d.dot(m.translation) + self.offset as f64) as f32,
+            color_map: self.color_map,
+        }
+    }
+
+    /// The linear value `direction·p + offset` at `p`.
+    pub fn linear(&self, p: Vec3) -> f32 {
+        self.direction.dot(p) + self.offset
+    }
+
+    /// The pattern value for the linear value `v = direction·p + offset`:
+    /// POV-Ray 3.7's ramp wave, `fmod(v, 1.00001)` brought into `[0, 1)`
+    /// for negative `v` (the 1.00001 is POV-Ray's, and keeps `v = 1`
+    /// at 1 rather than wrapping it to 0).
+    pub fn wave(v: f32) -> f32 {
+        let r = libm::fmodf(v, 1.00001);
+        if r < 0.0 {
+            r - libm::floorf(r)
+        } else {
+            r
         }
     }
 }

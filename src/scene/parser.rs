@@ -15,8 +15,8 @@ use super::error::{Arity, Diagnostic, DiagnosticKind as K, Triple};
 use super::expr::{BinOp, Value};
 use super::lexer::{Lexer, Pos, Token, TokenKind as T};
 use super::model::{
-    CameraDesc, Color, Finish, GlobalSettings, ImageFormat, Light, Object, Pigment, Projection,
-    Scene, Shape,
+    CameraDesc, Color, ColorMap, ColorMapEntry, Finish, GlobalSettings, Gradient, ImageFormat,
+    Light, Object, Pigment, Projection, Scene, Shape, MAX_COLOR_MAP_ENTRIES,
 };
 use crate::transform::Transform;
 
@@ -208,6 +208,8 @@ enum Kw {
     Open,
     Hierarchy,
     QuickColor,
+    Gradient,
+    ColorMap,
     // height-field formats
     Gif,
     Png,
@@ -292,6 +294,9 @@ const KEYWORDS: &[(&str, Kw)] = &[
     ("hierarchy", Kw::Hierarchy),
     ("quick_color", Kw::QuickColor),
     ("quick_colour", Kw::QuickColor),
+    ("gradient", Kw::Gradient),
+    ("color_map", Kw::ColorMap),
+    ("colour_map", Kw::ColorMap),
     ("gif", Kw::Gif),
     ("png", Kw::Png),
     ("pgm", Kw::Pgm),
@@ -1710,7 +1715,10 @@ impl<'src> Parser<'src, '_> {
             }
             let is_field = matches!(shape, Shape::HeightField { .. });
             match keyword(name_tok) {
-                Some(Kw::Pigment) => self.pigment(&mut obj.pigment)?,
+                Some(Kw::Pigment) => {
+                    self.pigment(&mut obj.pigment)?;
+                    pull_back(&mut obj.pigment, &obj.transform);
+                }
                 Some(Kw::Finish) => self.finish(&mut obj.finish)?,
                 Some(Kw::Texture) => self.texture(&mut obj)?,
                 Some(k) if is_color_keyword(k) => {
@@ -1846,33 +1854,59 @@ impl<'src> Parser<'src, '_> {
         Ok(Some(obj))
     }
 
-    /// `pigment { .. }`: flat colours; pigment transforms are parsed and
-    /// (having no effect on a flat colour) dropped; anything else is a
-    /// pattern hfray does not implement: warned and the block skipped.
+    /// `pigment { .. }`: a flat colour, or `gradient <v>` with an optional
+    /// `color_map` (POV-Ray's black-to-white map without one); the
+    /// pigment's transforms move the gradient (a flat colour is unchanged
+    /// by them). The result is in the coordinates the pigment was written
+    /// in (the caller pulls it back into object space); any other pattern
+    /// is warned about and the block skipped.
     fn pigment(&mut self, p: &mut Pigment) -> R<'src, ()> {
         self.bump()?;
         let open = self.open_brace()?;
+        let mut axis = None;
+        let mut map: Option<(ColorMap, Pos)> = None;
+        let mut moved = Transform::IDENTITY;
         // Bound: each iteration consumes an item or `}`.
         loop {
             let tok = self.tok;
             match tok.kind {
                 T::RBrace => {
                     self.bump()?;
-                    return Ok(());
+                    break;
                 }
                 T::Eof => return Err(D::error(open, K::UnterminatedBlock { block: "pigment" })),
                 T::Hash => self.directive()?,
                 T::Ident(name) => {
                     let kw = keyword(name);
                     let declared = self.lookup(name).is_some() || named_color(name).is_some();
-                    if declared || kw.is_some_and(is_color_keyword) {
+                    if kw == Some(Kw::Gradient) {
+                        self.bump()?;
+                        let (v, pos) = self.vector("the gradient's direction (a 3-vector)")?;
+                        let v = v.as_vec3();
+                        if !(v.length_squared() > 0.0 && v.is_finite()) {
+                            return Err(D::error(
+                                pos,
+                                K::Degenerate {
+                                    what: "gradient (a zero or non-finite direction)",
+                                },
+                            ));
+                        }
+                        axis = Some(v);
+                    } else if kw == Some(Kw::ColorMap) {
+                        map = Some((self.color_map()?, tok.pos));
+                    } else if declared || kw.is_some_and(is_color_keyword) {
                         *p = pigment_from(self.color("a colour")?.0);
-                    } else if self.transform_item()?.is_some() {
+                    } else if let Some(t) = self.transform_item()? {
+                        moved = moved.then(&t);
                     } else if kw == Some(Kw::QuickColor) {
                         self.bump()?;
                         self.color("a colour")?;
                     } else {
-                        self.unsupported(tok.pos, name, "pigment (only flat colours)")?;
+                        self.unsupported(
+                            tok.pos,
+                            name,
+                            "pigment (only flat colours and gradient with a color_map)",
+                        )?;
                         return self.skip_rest_of_block(open, "pigment");
                     }
                 }
@@ -1882,6 +1916,83 @@ impl<'src> Parser<'src, '_> {
                 _ => return Err(self.expected("a colour, a pigment transform or `}`")),
             }
         }
+        match (axis, map) {
+            (Some(axis), map) => {
+                let map = map.map_or(ColorMap::GRAY, |(m, _)| m);
+                p.gradient = Some(Gradient::along(axis, map).transformed(&moved));
+            }
+            (None, Some((_, at))) => {
+                self.unsupported(at, "color_map", "pigment without a pattern (use gradient)")?;
+            }
+            (None, None) => {}
+        }
+        Ok(())
+    }
+
+    /// `color_map { [value color ..] … }` (also `colour_map`, and a comma
+    /// after the value), values non-decreasing, at most
+    /// [`MAX_COLOR_MAP_ENTRIES`] entries.
+    fn color_map(&mut self) -> R<'src, ColorMap> {
+        self.bump()?;
+        let open = self.open_brace()?;
+        let mut entries: Vec<ColorMapEntry, MAX_COLOR_MAP_ENTRIES> = Vec::new();
+        // Bound: each iteration consumes an entry or `}`.
+        loop {
+            match self.tok.kind {
+                T::RBrace => {
+                    self.bump()?;
+                    break;
+                }
+                T::Eof => return Err(D::error(open, K::UnterminatedBlock { block: "color_map" })),
+                T::Char('[') => {
+                    let at = self.bump()?.pos;
+                    let (value, vpos) = self.float("the entry's value (a float)")?;
+                    let value = to_f32(value, vpos)?;
+                    if matches!(self.tok.kind, T::Comma) {
+                        self.bump()?;
+                    }
+                    let c = self.color("the entry's colour")?.0;
+                    if !matches!(self.tok.kind, T::Char(']')) {
+                        return Err(self.expected("`]` closing the color_map entry"));
+                    }
+                    self.bump()?;
+                    if entries.last().is_some_and(|last| value < last.value) {
+                        return Err(D::error(
+                            vpos,
+                            K::OutOfRange {
+                                what: "color_map entry value",
+                                range: "at least the previous entry's (values must not decrease)",
+                                value: value as f64,
+                            },
+                        ));
+                    }
+                    let entry = ColorMapEntry {
+                        value,
+                        color: rgb(c),
+                        filter: c[3] as f32,
+                        transmit: c[4] as f32,
+                    };
+                    entries.push(entry).map_err(|_| {
+                        D::error(
+                            at,
+                            K::TooMany {
+                                what: "color_map entries",
+                                capacity: MAX_COLOR_MAP_ENTRIES,
+                            },
+                        )
+                    })?;
+                }
+                _ => return Err(self.expected("`[value color ..]` or `}` in the color_map")),
+            }
+        }
+        ColorMap::new(&entries).ok_or_else(|| {
+            D::error(
+                open,
+                K::Degenerate {
+                    what: "color_map (it has no entries)",
+                },
+            )
+        })
     }
 
     fn finish(&mut self, f: &mut Finish) -> R<'src, ()> {
@@ -1966,25 +2077,37 @@ impl<'src> Parser<'src, '_> {
     fn texture(&mut self, obj: &mut Object<'src>) -> R<'src, ()> {
         self.bump()?;
         let open = self.open_brace()?;
+        // The texture's own pigment, in the texture's coordinates until `}`.
+        let mut own_pigment = false;
         // Bound: each iteration consumes an item or `}`.
         loop {
             let tok = self.tok;
             match tok.kind {
                 T::RBrace => {
                     self.bump()?;
+                    if own_pigment {
+                        pull_back(&mut obj.pigment, &obj.transform);
+                    }
                     return Ok(());
                 }
                 T::Eof => return Err(D::error(open, K::UnterminatedBlock { block: "texture" })),
                 T::Hash => self.directive()?,
                 T::Ident(name) => match keyword(name) {
-                    Some(Kw::Pigment) => self.pigment(&mut obj.pigment)?,
-                    Some(Kw::Finish) => self.finish(&mut obj.finish)?,
-                    _ => {
-                        // Texture transforms do not change flat colours.
-                        if self.transform_item()?.is_none() {
-                            self.skip_item("texture")?;
-                        }
+                    Some(Kw::Pigment) => {
+                        self.pigment(&mut obj.pigment)?;
+                        own_pigment = true;
                     }
+                    Some(Kw::Finish) => self.finish(&mut obj.finish)?,
+                    _ => match self.transform_item()? {
+                        // A texture transform moves the pigment written
+                        // before it (flat colours do not change).
+                        Some(t) => {
+                            if let Some(g) = obj.pigment.gradient.as_mut().filter(|_| own_pigment) {
+                                *g = g.transformed(&t);
+                            }
+                        }
+                        None => self.skip_item("texture")?,
+                    },
                 },
                 _ => return Err(self.expected("pigment, finish or `}` in the texture")),
             }
@@ -2033,5 +2156,15 @@ fn pigment_from(c: [f64; 5]) -> Pigment {
         color: rgb(c),
         filter: c[3] as f32,
         transmit: c[4] as f32,
+        gradient: None,
+    }
+}
+
+/// A pigment written after the transforms `so_far` of its object, brought
+/// into the object's space (POV-Ray: those transforms do not move it; the
+/// object's later ones do, since they move the object's space).
+fn pull_back(p: &mut Pigment, so_far: &Transform) {
+    if let Some(g) = &mut p.gradient {
+        *g = g.pulled_back(so_far);
     }
 }
