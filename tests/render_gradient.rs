@@ -257,3 +257,20 @@ fn color_map_errors_are_located() {
     let e = error("sphere { 0, 1 pigment { gradient y color_map { [0 rgb 1 } } }");
     assert!(e.contains("`]`"), "{e}");
 }
+
+/// A direction too long to normalise in `f32` (its squared length
+/// overflows) is still the unit x, and no `color_map` means POV-Ray's
+/// black-to-white one.
+#[test]
+fn gradient_direction_1e30_is_normalised_and_the_default_map_is_gray() {
+    let scene: Scene<'_, 1, 1> = parse_scene(
+        "sphere { 0, 1 pigment { gradient <1e30, 0, 0> } }",
+        &ParseOptions::default(),
+        &mut |w| panic!("{w}"),
+    )
+    .unwrap();
+    let g = scene.objects[0].pigment.gradient.unwrap();
+    assert_eq!(g.direction, Vec3::X);
+    assert_eq!(g.color_map, ColorMap::GRAY);
+    assert_eq!(g.color_map.at(0.25).color, Vec3::splat(0.25));
+}

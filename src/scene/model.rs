@@ -39,7 +39,9 @@ pub struct CameraDesc {
     pub look_at: Vec3,
     /// `angle` in degrees (horizontal field of view), if given.
     pub angle: Option<f32>,
-    /// `right` (default `<1.33, 0, 0>`).
+    /// `right` (default `<1.33, 0, 0>`, POV-Ray's, whatever the image's
+    /// aspect; [`CameraDesc::looking_at`] and
+    /// [`CameraDesc::heading_pitch`] take the aspect).
     pub right: Vec3,
     /// `up` (default `<0, 1, 0>`).
     pub up: Vec3,

@@ -1882,8 +1882,9 @@ impl<'src> Parser<'src, '_> {
                     if kw == Some(Kw::Gradient) {
                         self.bump()?;
                         let (v, pos) = self.vector("the gradient's direction (a 3-vector)")?;
-                        let v = v.as_vec3();
-                        if !(v.length_squared() > 0.0 && v.is_finite()) {
+                        // Normalised in f64, so that `gradient <1e30, 0, 0>` is x.
+                        let v = v.normalize_or_zero().as_vec3();
+                        if v == Vec3::ZERO {
                             return Err(D::error(
                                 pos,
                                 K::Degenerate {
