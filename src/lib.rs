@@ -46,8 +46,8 @@
 //!     .expect("5 × 5 samples")
 //!     .with_transform(place);
 //!
-//! // Room for 2 objects and 1 light, fixed at compile time.
-//! let mut scene: Scene<'static, 2, 1> = Scene::default();
+//! // Room for 2 objects, 1 light and no gradients, fixed at compile time.
+//! let mut scene: Scene<'static, 2, 1, 0> = Scene::default();
 //! let eye = Vec3::new(0.0, 1.6, -2.6);
 //! scene.camera = CameraDesc::looking_at(eye, Vec3::new(0.0, 0.2, 0.0), 32.0 / 24.0);
 //! scene.background = Vec3::new(0.5, 0.7, 0.9);

@@ -204,6 +204,15 @@ pub enum RenderError {
         /// How many fields were supplied.
         fields: usize,
     },
+    /// An object's pigment refers to a gradient not in `scene.gradients`.
+    MissingGradient {
+        /// Index of the object.
+        object: usize,
+        /// Its pigment's `gradient` index.
+        gradient: u8,
+        /// How many gradients the scene holds.
+        gradients: usize,
+    },
     /// An object uses a shading term this build leaves out (reflection or
     /// transparency without the `secondary-rays` feature).
     NotBuilt {
@@ -254,6 +263,14 @@ impl core::fmt::Display for RenderError {
             } => write!(
                 f,
                 "object {object}: height field {field_index} was not supplied ({fields} given)"
+            ),
+            RenderError::MissingGradient {
+                object,
+                gradient,
+                gradients,
+            } => write!(
+                f,
+                "object {object}: gradient {gradient} is not in the scene ({gradients} there)"
             ),
             RenderError::NotBuilt { object } => write!(
                 f,
@@ -342,8 +359,8 @@ fn drive<T: Copy>(
 /// Renders `settings.rows` of `scene` into `line`, one row at a time,
 /// handing each finished row (with its index) to `sink`; see the module
 /// docs. Returns the counters; `stats.cancelled` if the sink broke off.
-pub fn render<const O: usize, const L: usize, P: Pixel>(
-    scene: &Scene<'_, O, L>,
+pub fn render<const O: usize, const L: usize, const G: usize, P: Pixel>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [P],
@@ -371,8 +388,8 @@ pub fn render<const O: usize, const L: usize, P: Pixel>(
 /// The depth AOV: like [`render`], but each pixel is the distance along
 /// the pixel-centre camera ray (unit direction) to the first hit, or
 /// `f32::INFINITY`. `aa` is validated but not used.
-pub fn render_depth<const O: usize, const L: usize>(
-    scene: &Scene<'_, O, L>,
+pub fn render_depth<const O: usize, const L: usize, const G: usize>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [f32],

@@ -83,7 +83,7 @@ use crate::heightfield::HeightField;
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::render::{FieldMismatch, RenderError, Stats, MAX_AA};
-use crate::scene::{Finish, Gradient, Light, Pigment, Scene, Shape};
+use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
 use crate::transform::Transform;
 use crate::traversal::Counters;
@@ -167,9 +167,9 @@ struct Pending {
 #[derive(Debug, Clone, Copy)]
 struct Prepared<'a> {
     placed: Placed,
-    /// Borrowed from the scene: a colour map is too large to copy per
-    /// object.
     pigment: &'a Pigment,
+    /// A gradient pigment's colours, borrowed from the scene's pool.
+    color_map: Option<&'a ColorMap>,
     /// A gradient pigment's linear value in world space, `direction·p +
     /// offset` (the object's transform folded in once, here).
     gradient_world: (Vec3, f32),
@@ -226,8 +226,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// its object (a transform other than the object's, when the object's
     /// is not the identity; a different water level; `palette_colors`
     /// without a palette).
-    pub fn new<const LIGHTS: usize>(
-        scene: &'a Scene<'_, OBJECTS, LIGHTS>,
+    pub fn new<const LIGHTS: usize, const GRADIENTS: usize>(
+        scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
         fields: &'a [HeightField<'a>],
     ) -> Result<Self, RenderError> {
         let mut objects: Vec<Prepared<'a>, OBJECTS> = Vec::new();
@@ -277,8 +277,21 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             }
             let pigment = &object.pigment;
             let finish = object.finish;
-            let opaque = pigment.is_opaque();
-            let gradient_world = pigment.gradient.map_or((Vec3::ZERO, 0.0), |g| {
+            let gradient = match pigment.gradient {
+                Some(i) => Some(scene.gradients.get(usize::from(i)).ok_or(
+                    RenderError::MissingGradient {
+                        object: index,
+                        gradient: i,
+                        gradients: scene.gradients.len(),
+                    },
+                )?),
+                None => None,
+            };
+            let opaque = match gradient {
+                Some(g) => g.color_map.is_opaque(),
+                None => pigment.filter == 0.0 && pigment.transmit == 0.0,
+            };
+            let gradient_world = gradient.map_or((Vec3::ZERO, 0.0), |g| {
                 let world = g.transformed(&object.transform);
                 (world.direction, world.offset)
             });
@@ -290,6 +303,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let prepared = Prepared {
                 placed: Placed::new(primitive, &object.transform),
                 pigment,
+                color_map: gradient.map(|g| &g.color_map),
                 gradient_world,
                 finish,
                 specular_exponent: 1.0 / finish.roughness,
@@ -497,11 +511,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     #[inline]
     fn surface_colour(&self, obj: &Prepared, hit: &WorldHit) -> Paint {
         let pigment = obj.pigment;
-        let mut paint = match &pigment.gradient {
-            Some(g) => {
+        let mut paint = match obj.color_map {
+            Some(map) => {
                 let (direction, offset) = obj.gradient_world;
                 let value = Gradient::wave(direction.dot(hit.point) + offset);
-                let entry = g.color_map.at(value);
+                let entry = map.at(value);
                 Paint {
                     color: entry.color,
                     filter: entry.filter,

@@ -257,7 +257,7 @@ fn fuzz_seed_images_all_decode() {
 fn fuzz_seed_scenes_all_parse() {
     for (name, bytes) in seeds("parse_scene") {
         let text = std::str::from_utf8(&bytes).unwrap();
-        if let Err(e) = parse_scene::<32, 8>(text, &ParseOptions::default(), &mut |_| {}) {
+        if let Err(e) = parse_scene::<32, 8, 4>(text, &ParseOptions::default(), &mut |_| {}) {
             panic!("{name}: {e}");
         }
     }
@@ -270,7 +270,7 @@ fn fuzz_seed_renders_are_finite() {
     for (name, bytes) in seeds("render_scene") {
         let text = std::str::from_utf8(&bytes[8..]).unwrap();
         let options = ParseOptions::default();
-        let Ok(scene) = parse_scene::<16, 4>(text, &options, &mut |_| {}) else {
+        let Ok(scene) = parse_scene::<16, 4, 4>(text, &options, &mut |_| {}) else {
             panic!("{name}: does not parse");
         };
         if scene.height_fields().next().is_some() {

@@ -208,7 +208,7 @@ fn pigment_before_transforms_moves_with_the_object_one_after_does_not() {
         let scene: Scene<'_, 8, 4> =
             parse_scene(text, &ParseOptions::default(), &mut |w| panic!("{w}")).unwrap();
         let object = scene.objects[0];
-        let g = object.pigment.gradient.expect("a gradient");
+        let g = scene.gradients[usize::from(object.pigment.gradient.expect("a gradient"))];
         // The pattern's value at world points, as the renderer sees it.
         let world = g.transformed(&object.transform);
         move |p: Vec3| world.direction.dot(p) + world.offset
@@ -236,7 +236,7 @@ fn pigment_before_transforms_moves_with_the_object_one_after_does_not() {
 #[test]
 fn color_map_errors_are_located() {
     let error = |text: &str| {
-        parse_scene::<8, 4>(text, &ParseOptions::default(), &mut |_| {})
+        parse_scene::<8, 4, 4>(text, &ParseOptions::default(), &mut |_| {})
             .unwrap_err()
             .to_string()
     };
@@ -269,8 +269,65 @@ fn gradient_direction_1e30_is_normalised_and_the_default_map_is_gray() {
         &mut |w| panic!("{w}"),
     )
     .unwrap();
-    let g = scene.objects[0].pigment.gradient.unwrap();
+    let g = scene.gradients[usize::from(scene.objects[0].pigment.gradient.unwrap())];
     assert_eq!(g.direction, Vec3::X);
     assert_eq!(g.color_map, ColorMap::GRAY);
     assert_eq!(g.color_map.at(0.25).color, Vec3::splat(0.25));
+}
+
+/// Gradients live in the scene's pool, sized by its `GRADIENTS`: a full
+/// pool is a located error, a pool of 0 parses flat colours, and each
+/// gradient pigment gets its own entry.
+#[test]
+fn gradient_pool_fills_in_file_order_and_a_full_pool_is_a_located_error() {
+    let two = "sphere { 0, 1 pigment { gradient y } }\n\
+               sphere { 0, 1 pigment { gradient x } }";
+    let e = parse_scene::<2, 1, 1>(two, &ParseOptions::default(), &mut |_| {}).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "2:1: too many gradient pigments (capacity 1)"
+    );
+    let scene = parse_scene::<2, 1, 2>(two, &ParseOptions::default(), &mut |_| {}).unwrap();
+    assert_eq!(scene.objects[0].pigment.gradient, Some(0));
+    assert_eq!(scene.objects[1].pigment.gradient, Some(1));
+    assert_eq!(scene.gradients[1].direction, Vec3::X);
+    let flat = "sphere { 0, 1 pigment { gradient y color rgb 1 } pigment { color rgb 1 } }";
+    let scene = parse_scene::<1, 1, 0>(flat, &ParseOptions::default(), &mut |_| {}).unwrap();
+    assert_eq!(scene.objects[0].pigment.gradient, None);
+}
+
+/// A pigment naming a gradient the scene does not hold is refused before
+/// rendering, with the object and index named.
+#[test]
+fn pigment_naming_a_gradient_not_in_the_pool_is_a_render_error() {
+    use hfray::shading::Tracer;
+    use hfray::RenderError;
+    let mut scene: Scene<'_, 1, 1, 1> = Scene::default();
+    let mut pigment = scene
+        .gradient_pigment(Gradient::along(Vec3::Y, ColorMap::GRAY))
+        .expect("room for one");
+    pigment.gradient = Some(1);
+    let object = hfray::scene::Object {
+        shape: Shape::Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        },
+        transform: hfray::Transform::IDENTITY,
+        pigment,
+        finish: Default::default(),
+    };
+    scene.objects.push(object).unwrap();
+    let e = Tracer::new(&scene, &[]).unwrap_err();
+    assert_eq!(
+        e,
+        RenderError::MissingGradient {
+            object: 0,
+            gradient: 1,
+            gradients: 1
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "object 0: gradient 1 is not in the scene (1 there)"
+    );
 }

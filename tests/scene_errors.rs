@@ -4,7 +4,7 @@
 use hfray::scene::{parse_scene, Diagnostic, ParseOptions, Severity, MAX_DECLARATIONS};
 
 fn err_with(src: &str, opts: &ParseOptions) -> String {
-    match parse_scene::<8, 4>(src, opts, &mut |_| {}) {
+    match parse_scene::<8, 4, 4>(src, opts, &mut |_| {}) {
         Ok(_) => panic!("expected an error for {src:?}"),
         Err(e) => {
             assert_eq!(e.severity, Severity::Error);
@@ -309,7 +309,7 @@ fn camera_look_direction_parallel_to_sky() {
          expected a sky vector not parallel to it"
     );
     // Checked at the end of the block: a later `sky` fixes it.
-    parse_scene::<1, 1>(
+    parse_scene::<1, 1, 4>(
         "camera { location <0, 10, 0> look_at 0 sky z }",
         &ParseOptions::default(),
         &mut |_| {},
@@ -442,7 +442,7 @@ fn declaration_errors() {
 
 #[test]
 fn too_many_objects() {
-    let e = parse_scene::<2, 1>(
+    let e = parse_scene::<2, 1, 4>(
         "sphere { 0, 1 }\nsphere { 0, 1 }\nsphere { 0, 1 }",
         &ParseOptions::default(),
         &mut |_| {},
@@ -453,7 +453,7 @@ fn too_many_objects() {
 
 #[test]
 fn too_many_lights() {
-    let e = parse_scene::<2, 1>(
+    let e = parse_scene::<2, 1, 4>(
         "light_source { 0 color 1 }\nlight_source { 0 color 1 }",
         &ParseOptions::default(),
         &mut |_| {},
@@ -505,7 +505,7 @@ fn deep_nesting_is_reported_not_a_stack_overflow() {
     );
     // Many unary minus signs are a loop, not recursion.
     let minus = format!("sphere {{ 0, {}1 }}", "- ".repeat(100_000));
-    assert!(parse_scene::<1, 1>(&minus, &ParseOptions::default(), &mut |_| {}).is_ok());
+    assert!(parse_scene::<1, 1, 4>(&minus, &ParseOptions::default(), &mut |_| {}).is_ok());
 }
 
 // --- never panic --------------------------------------------------------------------
@@ -640,7 +640,7 @@ fn parser_never_panics_on_random_and_mutated_inputs() {
     let mut oks = 0usize;
     let mut run = |src: &str, i: usize| {
         let mut warn_count = 0usize;
-        let r = parse_scene::<8, 4>(src, &opts[i % 2], &mut |d: &Diagnostic| {
+        let r = parse_scene::<8, 4, 4>(src, &opts[i % 2], &mut |d: &Diagnostic| {
             // Displaying must not panic either.
             let _ = d.to_string();
             warn_count += 1;

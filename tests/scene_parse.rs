@@ -14,7 +14,7 @@ type S<'a> = Scene<'a, 16, 4>;
 
 fn parse_opts<'a>(src: &'a str, opts: &ParseOptions) -> (S<'a>, Vec<String>) {
     let mut warnings = Vec::new();
-    let scene = parse_scene::<16, 4>(src, opts, &mut |d: &Diagnostic| {
+    let scene = parse_scene::<16, 4, 4>(src, opts, &mut |d: &Diagnostic| {
         assert_eq!(d.severity, Severity::Warning);
         warnings.push(d.to_string())
     })
@@ -643,8 +643,8 @@ fn strict_mode_turns_the_normal_warning_into_an_error() {
         strict: true,
         ..ParseOptions::default()
     };
-    let err =
-        parse_scene::<4, 1>(src, &opts, &mut |_| panic!("no warnings in strict mode")).unwrap_err();
+    let err = parse_scene::<4, 1, 4>(src, &opts, &mut |_| panic!("no warnings in strict mode"))
+        .unwrap_err();
     assert_eq!(err.severity, Severity::Error);
     assert_eq!(
         err.to_string(),
@@ -665,7 +665,7 @@ fn degenerate_triangle_is_dropped_with_a_warning() {
 
 #[test]
 fn capacity_exactly_filled_is_fine() {
-    let scene = parse_scene::<3, 2>(
+    let scene = parse_scene::<3, 2, 4>(
         "sphere { 0, 1 } sphere { 0, 1 } sphere { 0, 1 }
          light_source { 0 color 1 } light_source { 0 color 1 }",
         &ParseOptions::default(),

@@ -34,7 +34,7 @@ fuzz_target!(|data: &[u8]| {
         image_height: height,
         ..ParseOptions::default()
     };
-    let Ok(scene) = parse_scene::<16, 4>(&text, &options, &mut |_| {}) else {
+    let Ok(scene) = parse_scene::<16, 4, 4>(&text, &options, &mut |_| {}) else {
         return;
     };
     let n = (fw * fd) as usize;

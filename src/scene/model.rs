@@ -85,10 +85,12 @@ pub struct Pigment {
     pub filter: f32,
     /// `transmit`: share of light passing through untinted.
     pub transmit: f32,
-    /// `gradient .. color_map { .. }`: when set, the colour, filter and
-    /// transmit at each point come from it, and the three fields above are
-    /// not used.
-    pub gradient: Option<Gradient>,
+    /// `gradient .. color_map { .. }`: when set, an index into the scene's
+    /// [`gradients`](Scene::gradients) (a colour map is too large to keep
+    /// in every object); the colour, filter and transmit at each point
+    /// then come from that gradient, and the three fields above are not
+    /// used.
+    pub gradient: Option<u8>,
 }
 
 impl Default for Pigment {
@@ -103,23 +105,9 @@ impl Default for Pigment {
     }
 }
 
-impl Pigment {
-    /// Whether no point of the surface lets light through (every filter
-    /// and transmit zero).
-    pub fn is_opaque(&self) -> bool {
-        match &self.gradient {
-            Some(g) => g
-                .color_map
-                .entries()
-                .iter()
-                .all(|e| e.filter == 0.0 && e.transmit == 0.0),
-            None => self.filter == 0.0 && self.transmit == 0.0,
-        }
-    }
-}
-
 /// The most entries a [`ColorMap`] holds (POV-Ray allows 256; terrain
-/// maps use a handful, and each entry costs 24 bytes in every object).
+/// maps use a handful, and each entry costs 24 bytes in every gradient of
+/// the scene's pool).
 pub const MAX_COLOR_MAP_ENTRIES: usize = 8;
 
 /// One `[value color ..]` of a `color_map`.
@@ -184,6 +172,14 @@ impl ColorMap {
     /// The entries, in value order.
     pub fn entries(&self) -> &[ColorMapEntry] {
         &self.entries[..self.len as usize]
+    }
+
+    /// Whether no colour of the map lets light through (every filter and
+    /// transmit zero).
+    pub fn is_opaque(&self) -> bool {
+        self.entries()
+            .iter()
+            .all(|e| e.filter == 0.0 && e.transmit == 0.0)
     }
 
     /// The colour at pattern value `value`: the first entry's at or below
@@ -440,9 +436,17 @@ impl Default for GlobalSettings {
     }
 }
 
-/// A whole scene, with room for `OBJECTS` objects and `LIGHTS` lights.
+/// A whole scene, with room for `OBJECTS` objects, `LIGHTS` lights and
+/// `GRADIENTS` gradient pigments (about 210 bytes each, for the colour
+/// map: a scene without gradients can set `GRADIENTS` to 0 and pay
+/// nothing for them).
 #[derive(Debug, Clone)]
-pub struct Scene<'src, const OBJECTS: usize = 32, const LIGHTS: usize = 8> {
+pub struct Scene<
+    'src,
+    const OBJECTS: usize = 32,
+    const LIGHTS: usize = 8,
+    const GRADIENTS: usize = 4,
+> {
     /// The camera (the last `camera` block wins, as in POV-Ray).
     pub camera: CameraDesc,
     /// Light sources.
@@ -451,26 +455,45 @@ pub struct Scene<'src, const OBJECTS: usize = 32, const LIGHTS: usize = 8> {
     pub background: Color,
     /// Objects, in file order.
     pub objects: Vec<Object<'src>, OBJECTS>,
+    /// The gradient pigments' patterns and colour maps, in file order;
+    /// [`Pigment::gradient`] indexes them.
+    pub gradients: Vec<Gradient, GRADIENTS>,
     /// `global_settings`.
     pub settings: GlobalSettings,
     /// `#version`, if given.
     pub version: Option<f32>,
 }
 
-impl<const OBJECTS: usize, const LIGHTS: usize> Default for Scene<'_, OBJECTS, LIGHTS> {
+impl<const OBJECTS: usize, const LIGHTS: usize, const GRADIENTS: usize> Default
+    for Scene<'_, OBJECTS, LIGHTS, GRADIENTS>
+{
     fn default() -> Self {
         Scene {
             camera: CameraDesc::default(),
             lights: Vec::new(),
             background: Vec3::ZERO,
             objects: Vec::new(),
+            gradients: Vec::new(),
             settings: GlobalSettings::default(),
             version: None,
         }
     }
 }
 
-impl<'src, const OBJECTS: usize, const LIGHTS: usize> Scene<'src, OBJECTS, LIGHTS> {
+impl<'src, const OBJECTS: usize, const LIGHTS: usize, const GRADIENTS: usize>
+    Scene<'src, OBJECTS, LIGHTS, GRADIENTS>
+{
+    /// A pigment coloured by `gradient`, which joins the scene's pool;
+    /// `None` if the pool is full (or holds 256 already).
+    pub fn gradient_pigment(&mut self, gradient: Gradient) -> Option<Pigment> {
+        let index = u8::try_from(self.gradients.len()).ok()?;
+        self.gradients.push(gradient).ok()?;
+        Some(Pigment {
+            gradient: Some(index),
+            ..Pigment::default()
+        })
+    }
+
     /// The height-field objects in `field_index` order, with their image
     /// format and path (the harness loads these).
     pub fn height_fields(&self) -> impl Iterator<Item = (usize, ImageFormat, &'src str)> + '_ {

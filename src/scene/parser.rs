@@ -59,13 +59,14 @@ type R<'src, V> = Result<V, Diagnostic<'src>>;
 ///
 /// `warn` receives each warning (constructs that are skipped); with
 /// `options.strict` the first such construct is returned as an error
-/// instead. The scene's capacities are `O` objects and `L` lights; running
-/// out is an error ("too many objects (capacity N)").
-pub fn parse_scene<'src, const O: usize, const L: usize>(
+/// instead. The scene's capacities are `O` objects, `L` lights and `G`
+/// gradient pigments; running out is an error ("too many objects
+/// (capacity N)").
+pub fn parse_scene<'src, const O: usize, const L: usize, const G: usize>(
     src: &'src str,
     options: &ParseOptions,
     warn: &mut dyn FnMut(&Diagnostic<'src>),
-) -> Result<Scene<'src, O, L>, Diagnostic<'src>> {
+) -> Result<Scene<'src, O, L, G>, Diagnostic<'src>> {
     let mut lex = Lexer::new(src);
     let tok = lex.next_token()?;
     let mut p = Parser {
@@ -78,7 +79,7 @@ pub fn parse_scene<'src, const O: usize, const L: usize>(
         depth: 0,
         version: None,
     };
-    let mut scene = Scene::<'src, O, L>::default();
+    let mut scene = Scene::<'src, O, L, G>::default();
     let mut fields = 0usize;
     // Bound: each iteration consumes at least one token.
     loop {
@@ -111,7 +112,20 @@ pub fn parse_scene<'src, const O: usize, const L: usize>(
                     | Kw::Cone
                     | Kw::Triangle),
                 ) => {
-                    if let Some(object) = p.object(kw, fields)? {
+                    if let Some((mut object, gradient)) = p.object(kw, fields)? {
+                        if let Some(gradient) = gradient {
+                            let too_many = D::error(
+                                tok.pos,
+                                K::TooMany {
+                                    what: "gradient pigments",
+                                    capacity: G.min(usize::from(u8::MAX) + 1),
+                                },
+                            );
+                            let index =
+                                u8::try_from(scene.gradients.len()).map_err(|_| too_many)?;
+                            scene.gradients.push(gradient).map_err(|_| too_many)?;
+                            object.pigment.gradient = Some(index);
+                        }
                         let is_field = matches!(object.shape, Shape::HeightField { .. });
                         scene.objects.push(object).map_err(|_| {
                             D::error(
@@ -1560,7 +1574,14 @@ impl<'src> Parser<'src, '_> {
 
     /// An object block. `None` for a degenerate triangle (dropped with a
     /// warning, as POV-Ray does).
-    fn object(&mut self, kind: Kw, field_index: usize) -> R<'src, Option<Object<'src>>> {
+    /// An object, with its gradient pigment's pattern if it has one (the
+    /// caller adds that to the scene's pool); `None` for a dropped
+    /// degenerate triangle.
+    fn object(
+        &mut self,
+        kind: Kw,
+        field_index: usize,
+    ) -> R<'src, Option<(Object<'src>, Option<Gradient>)>> {
         let obj_pos = self.bump()?.pos;
         let name = shape_name(kind);
         let open = self.open_brace()?;
@@ -1687,6 +1708,8 @@ impl<'src> Parser<'src, '_> {
             pigment: Pigment::default(),
             finish: Finish::default(),
         };
+        // The pigment's gradient, in object space (pooled by the caller).
+        let mut gradient = None;
         // Bound: each iteration consumes a modifier or `}`.
         loop {
             let tok = self.tok;
@@ -1716,14 +1739,15 @@ impl<'src> Parser<'src, '_> {
             let is_field = matches!(shape, Shape::HeightField { .. });
             match keyword(name_tok) {
                 Some(Kw::Pigment) => {
-                    self.pigment(&mut obj.pigment)?;
-                    pull_back(&mut obj.pigment, &obj.transform);
+                    self.pigment(&mut obj.pigment, &mut gradient)?;
+                    pull_back(&mut gradient, &obj.transform);
                 }
                 Some(Kw::Finish) => self.finish(&mut obj.finish)?,
-                Some(Kw::Texture) => self.texture(&mut obj)?,
+                Some(Kw::Texture) => self.texture(&mut obj, &mut gradient)?,
                 Some(k) if is_color_keyword(k) => {
                     // The thesis's `COLOR RGB <..>` directly in the object.
                     obj.pigment = pigment_from(self.color("a colour")?.0);
+                    gradient = None;
                 }
                 Some(Kw::ImageMap) => {
                     if !is_field {
@@ -1851,7 +1875,7 @@ impl<'src> Parser<'src, '_> {
             (self.warn)(&D::warning(obj_pos, kind));
             return Ok(None);
         }
-        Ok(Some(obj))
+        Ok(Some((obj, gradient)))
     }
 
     /// `pigment { .. }`: a flat colour, or `gradient <v>` with an optional
@@ -1859,8 +1883,9 @@ impl<'src> Parser<'src, '_> {
     /// pigment's transforms move the gradient (a flat colour is unchanged
     /// by them). The result is in the coordinates the pigment was written
     /// in (the caller pulls it back into object space); any other pattern
-    /// is warned about and the block skipped.
-    fn pigment(&mut self, p: &mut Pigment) -> R<'src, ()> {
+    /// is warned about and the block skipped. `gradient` is the pigment's
+    /// pattern (set or cleared with it).
+    fn pigment(&mut self, p: &mut Pigment, gradient: &mut Option<Gradient>) -> R<'src, ()> {
         self.bump()?;
         let open = self.open_brace()?;
         let mut axis = None;
@@ -1897,6 +1922,7 @@ impl<'src> Parser<'src, '_> {
                         map = Some((self.color_map()?, tok.pos));
                     } else if declared || kw.is_some_and(is_color_keyword) {
                         *p = pigment_from(self.color("a colour")?.0);
+                        *gradient = None;
                     } else if let Some(t) = self.transform_item()? {
                         moved = moved.then(&t);
                     } else if kw == Some(Kw::QuickColor) {
@@ -1913,6 +1939,7 @@ impl<'src> Parser<'src, '_> {
                 }
                 T::Number(_) | T::Lt | T::LParen | T::Minus | T::Plus => {
                     *p = pigment_from(self.color("a colour")?.0);
+                    *gradient = None;
                 }
                 _ => return Err(self.expected("a colour, a pigment transform or `}`")),
             }
@@ -1920,7 +1947,7 @@ impl<'src> Parser<'src, '_> {
         match (axis, map) {
             (Some(axis), map) => {
                 let map = map.map_or(ColorMap::GRAY, |(m, _)| m);
-                p.gradient = Some(Gradient::along(axis, map).transformed(&moved));
+                *gradient = Some(Gradient::along(axis, map).transformed(&moved));
             }
             (None, Some((_, at))) => {
                 self.unsupported(at, "color_map", "pigment without a pattern (use gradient)")?;
@@ -2075,7 +2102,7 @@ impl<'src> Parser<'src, '_> {
         }
     }
 
-    fn texture(&mut self, obj: &mut Object<'src>) -> R<'src, ()> {
+    fn texture(&mut self, obj: &mut Object<'src>, gradient: &mut Option<Gradient>) -> R<'src, ()> {
         self.bump()?;
         let open = self.open_brace()?;
         // The texture's own pigment, in the texture's coordinates until `}`.
@@ -2087,7 +2114,7 @@ impl<'src> Parser<'src, '_> {
                 T::RBrace => {
                     self.bump()?;
                     if own_pigment {
-                        pull_back(&mut obj.pigment, &obj.transform);
+                        pull_back(gradient, &obj.transform);
                     }
                     return Ok(());
                 }
@@ -2095,7 +2122,7 @@ impl<'src> Parser<'src, '_> {
                 T::Hash => self.directive()?,
                 T::Ident(name) => match keyword(name) {
                     Some(Kw::Pigment) => {
-                        self.pigment(&mut obj.pigment)?;
+                        self.pigment(&mut obj.pigment, gradient)?;
                         own_pigment = true;
                     }
                     Some(Kw::Finish) => self.finish(&mut obj.finish)?,
@@ -2103,7 +2130,7 @@ impl<'src> Parser<'src, '_> {
                         // A texture transform moves the pigment written
                         // before it (flat colours do not change).
                         Some(t) => {
-                            if let Some(g) = obj.pigment.gradient.as_mut().filter(|_| own_pigment) {
+                            if let Some(g) = gradient.as_mut().filter(|_| own_pigment) {
                                 *g = g.transformed(&t);
                             }
                         }
@@ -2164,8 +2191,8 @@ fn pigment_from(c: [f64; 5]) -> Pigment {
 /// A pigment written after the transforms `so_far` of its object, brought
 /// into the object's space (POV-Ray: those transforms do not move it; the
 /// object's later ones do, since they move the object's space).
-fn pull_back(p: &mut Pigment, so_far: &Transform) {
-    if let Some(g) = &mut p.gradient {
+fn pull_back(gradient: &mut Option<Gradient>, so_far: &Transform) {
+    if let Some(g) = gradient {
         *g = g.pulled_back(so_far);
     }
 }

@@ -116,7 +116,7 @@ pub fn render_frame(panel: &mut SpiPanel<Bus<'_>>) -> Result<Stats, FrameError> 
     let field = HeightField::new(Samples::U8(&TERRAIN), 8, 8, HeightConvention::Indexed)
         .map_err(|_| FrameError::Scene)?;
     let fields = [field.with_transform(place)];
-    let mut scene: Scene<'static, 1, 1> = Scene {
+    let mut scene: Scene<'static, 1, 1, 0> = Scene {
         camera: CameraDesc {
             location: Vec3::new(0.0, 1.4, -2.4),
             look_at: Vec3::new(0.0, 0.15, 0.0),

@@ -65,8 +65,9 @@ pub const OBJECTS: usize = 2;
 #[cfg(not(feature = "primitives"))]
 pub const OBJECTS: usize = 1;
 
-/// The scene model type: [`OBJECTS`] objects, one light.
-pub type FirmwareScene = Scene<'static, OBJECTS, 1>;
+/// The scene model type: [`OBJECTS`] objects, one light, no gradient
+/// pigments (so no colour maps on the stack).
+pub type FirmwareScene = Scene<'static, OBJECTS, 1, 0>;
 
 /// Which scene to render. Every variant has the same camera, light and
 /// frame size; only objects, finishes and `max_trace_level` differ.
