@@ -24,7 +24,7 @@
 //! ```
 //! use core::ops::ControlFlow;
 //! use hfray::glam::{DVec3, Vec3};
-//! use hfray::scene::{CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Scene, Shape};
+//! use hfray::scene::{CameraDesc, Finish, Light, Pigment, Scene};
 //! use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb565, Samples, Transform};
 //!
 //! // 5 × 5 palette indices in flash (height = index / 256): a small hill.
@@ -53,20 +53,9 @@
 //! scene.background = Vec3::new(0.5, 0.7, 0.9);
 //! let sun = Light { position: Vec3::new(-4.0, 6.0, -3.0), color: Vec3::ONE };
 //! scene.lights.push(sun).expect("capacity 1");
-//! let terrain = Object {
-//!     shape: Shape::HeightField {
-//!         format: ImageFormat::Gif, // only a label here: the data is TERRAIN
-//!         path: "",
-//!         smooth: true,
-//!         water_level: 0.0,
-//!         palette_colors: false,
-//!         field_index: 0, // fields[0]
-//!     },
-//!     transform: place,
-//!     pigment: Pigment { color: Vec3::new(0.45, 0.6, 0.3), ..Pigment::default() },
-//!     finish: Finish::default(),
-//! };
-//! scene.objects.push(terrain).expect("capacity 2");
+//! // The terrain is fields[0], smooth; its placement is the field's.
+//! let grass = Pigment { color: Vec3::new(0.45, 0.6, 0.3), ..Pigment::default() };
+//! scene.add_height_field(0, true, grass, Finish::default()).expect("capacity 2");
 //!
 //! let fields = [field];
 //! let mut line = [Rgb565::default(); 32]; // one 32-pixel row: 64 bytes
@@ -98,7 +87,7 @@
 //!
 //! ```
 //! use std::ops::ControlFlow;
-//! use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
+//! use hfray::scene::{parse_scene, ParseOptions, Scene};
 //! use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb888, Samples};
 //!
 //! let text = r#"
@@ -125,17 +114,15 @@
 //!         (128.0 + 90.0 * (x / 9.0).sin() * (z / 7.0).cos()) as u8
 //!     })
 //!     .collect();
-//! // One field per `field_index`, carrying its object's transform and water level.
+//! // One field per `field_index`, built from what the file said about it.
 //! let mut fields = Vec::new();
-//! for object in &scene.objects {
-//!     if let Shape::HeightField { water_level, field_index, .. } = object.shape {
-//!         assert_eq!(field_index, fields.len());
-//!         let field = HeightField::new(Samples::U8(&gray), 65, 65, HeightConvention::Gray8)
-//!             .and_then(|f| f.with_water_level(water_level))
-//!             .expect("valid field")
-//!             .with_transform(object.transform);
-//!         fields.push(field);
-//!     }
+//! for (field_index, source, transform) in scene.height_field_sources() {
+//!     assert_eq!((field_index, source.path), (fields.len(), "terrain.pgm"));
+//!     let field = HeightField::new(Samples::U8(&gray), 65, 65, HeightConvention::Gray8)
+//!         .and_then(|f| f.with_water_level(source.water_level))
+//!         .expect("valid field")
+//!         .with_transform(*transform);
+//!     fields.push(field);
 //! }
 //!
 //! let settings = RenderSettings::new(64, 48).with_aa(2); // 2 × 2 supersampling
@@ -220,13 +207,15 @@
 //! **Scene** ([`scene`]). The scene model is plain data — camera, lights,
 //! background, objects with pigment and finish, global settings — in a
 //! [`Scene`](scene::Scene) whose capacities are const generics
-//! (`Scene<'src, OBJECTS, LIGHTS>`), so a build pays only for what its
+//! (`Scene<'src, OBJECTS, LIGHTS, GRADIENTS>`), so a build pays only for what its
 //! scenes need. Firmware fills one in code; [`parse_scene`](scene::parse_scene)
 //! reads a POV-Ray subset (including the thesis's own scene syntax) from a
 //! `&str` without allocating, borrowing names from the text, with errors
 //! and warnings as `LINE:COL: message`. Height-field *data* stays outside
 //! the scene: each `height_field` object has a `field_index` into the
-//! fields the caller passes to the renderer.
+//! fields the caller passes to the renderer, and each field carries its own
+//! placement, water level and palette (a parsed object's
+//! [`HeightFieldSource`](scene::HeightFieldSource) says how to build it).
 //!
 //! **Render and sinks** ([`render`](mod@render), [`pixel`], [`sink`]).
 //! [`render()`] traces one row at a time into the caller's line buffer

@@ -22,10 +22,9 @@
 //! hit.
 //!
 //! Height fields are passed separately (`fields[i]` for an object's
-//! `field_index` `i`), each built by the caller with its object's
-//! transform, water level and palette; the field's own values are used and
-//! the renderer checks that they agree with the object
-//! ([`RenderError::FieldMismatch`]).
+//! `field_index` `i`); each carries its placement, water level and palette,
+//! and the scene's object only says which field, whether it is smooth, and
+//! its pigment and finish, so the two cannot disagree.
 
 use core::ops::{ControlFlow, Range};
 
@@ -140,19 +139,6 @@ impl Stats {
     }
 }
 
-/// Which property of a height field disagrees with its object.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FieldMismatch {
-    /// The object has a transform (not the identity) different from the
-    /// field's: build the field with `.with_transform(object.transform)`.
-    Transform,
-    /// The object's `water_level` differs from the field's.
-    WaterLevel,
-    /// `palette_colors`, but the field has no palette (16-bit fields
-    /// cannot have one: [`HeightField::with_palette`] refuses them).
-    Palette,
-}
-
 /// Why a render could not start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RenderError {
@@ -219,15 +205,6 @@ pub enum RenderError {
         /// Index of the object.
         object: usize,
     },
-    /// A height field disagrees with its object.
-    FieldMismatch {
-        /// Index of the object.
-        object: usize,
-        /// Its `field_index`.
-        field_index: usize,
-        /// What differs.
-        what: FieldMismatch,
-    },
 }
 
 impl From<CameraError> for RenderError {
@@ -276,22 +253,6 @@ impl core::fmt::Display for RenderError {
                 f,
                 "object {object} reflects or is transparent, but this build leaves secondary \
                  rays out: enable hfray's `secondary-rays` feature"
-            ),
-            RenderError::FieldMismatch {
-                object,
-                field_index,
-                what,
-            } => write!(
-                f,
-                "object {object}: height field {field_index} {}",
-                match what {
-                    FieldMismatch::Transform =>
-                        "has a different transform than its object (build it with with_transform)",
-                    FieldMismatch::WaterLevel => "has a different water_level than its object",
-                    FieldMismatch::Palette =>
-                        "has no palette, but its object asks for palette colours (attach one \
-                         with with_palette)",
-                }
             ),
         }
     }

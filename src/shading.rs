@@ -8,8 +8,8 @@
 //! for a single-layer texture with a plain pigment, point lights and the
 //! default interior (`ior 1`):
 //!
-//! - `C` is the pigment colour (or, for a height field with
-//!   `palette_colors`, the mean of the hit triangle's three vertex palette
+//! - `C` is the pigment colour (or, for a height field with a palette,
+//!   the mean of the hit triangle's three vertex palette
 //!   colours, keeping the pigment's filter and transmit; for a `gradient`
 //!   pigment, its `color_map` at the hit point, filter and transmit
 //!   included); `f`, `t` are its filter and transmit; `att = 1 − f − t`
@@ -82,10 +82,9 @@ use crate::cell::Corners;
 use crate::heightfield::HeightField;
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::render::{FieldMismatch, RenderError, Stats, MAX_AA};
+use crate::render::{RenderError, Stats, MAX_AA};
 use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
-use crate::transform::Transform;
 use crate::traversal::Counters;
 
 /// The largest colour magnitude a traced ray returns: `f32::MAX` over the
@@ -218,14 +217,14 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     pub const SIZE: usize = core::mem::size_of::<Self>();
 
     /// Prepares `scene` with the caller's height fields (`fields[i]` for
-    /// `field_index` `i`, each already carrying its object's transform,
-    /// water level and palette).
+    /// `field_index` `i`). Each field is placed, flooded and coloured as it
+    /// says: its transform (a height-field object's own is not used, for
+    /// the shape nor for a gradient pigment), its water level, and its
+    /// palette if it has one.
     ///
     /// Errors name the object (its index in `scene.objects`): an invalid
-    /// shape, a `field_index` with no field, or a field that disagrees with
-    /// its object (a transform other than the object's, when the object's
-    /// is not the identity; a different water level; `palette_colors`
-    /// without a palette).
+    /// shape, a `field_index` with no field, or a gradient not in the
+    /// scene.
     pub fn new<const LIGHTS: usize, const GRADIENTS: usize>(
         scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
         fields: &'a [HeightField<'a>],
@@ -242,10 +241,10 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let mut palette = false;
             let mut field_up = Vec3::Y;
             let mut field_index = 0;
+            // Where the object is: a height field's own transform places it.
+            let mut placement = &object.transform;
             if let Shape::HeightField {
                 smooth: s,
-                water_level,
-                palette_colors,
                 field_index: fi,
                 ..
             } = object.shape
@@ -255,25 +254,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                     field_index: fi,
                     fields: fields.len(),
                 })?;
-                let mismatch = |what| RenderError::FieldMismatch {
-                    object: index,
-                    field_index: fi,
-                    what,
-                };
-                if object.transform != Transform::IDENTITY && object.transform != *field.transform()
-                {
-                    return Err(mismatch(FieldMismatch::Transform));
-                }
-                if water_level != field.water_level() {
-                    return Err(mismatch(FieldMismatch::WaterLevel));
-                }
-                if palette_colors && field.palette().is_none() {
-                    return Err(mismatch(FieldMismatch::Palette));
-                }
                 smooth = s;
-                palette = palette_colors;
+                palette = field.palette().is_some();
                 field_index = fi;
-                field_up = field.transform().to_world().matrix3.y_axis.as_vec3();
+                placement = field.transform();
+                field_up = placement.to_world().matrix3.y_axis.as_vec3();
             }
             let pigment = &object.pigment;
             let finish = object.finish;
@@ -292,7 +277,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 None => pigment.filter == 0.0 && pigment.transmit == 0.0,
             };
             let gradient_world = gradient.map_or((Vec3::ZERO, 0.0), |g| {
-                let world = g.transformed(&object.transform);
+                let world = g.transformed(placement);
                 (world.direction, world.offset)
             });
             let reflective = finish.reflection.max_element() > 0.0;

@@ -68,27 +68,20 @@ fn render_hfray() -> Vec<[u8; 3]> {
     let scene: TestScene = parse_scene(SCENE, &options, &mut |w| panic!("{w}")).unwrap();
     let (eight, sixteen) = (island(), island16());
     let mut fields = Vec::new();
-    for object in &scene.objects {
-        if let Shape::HeightField {
-            path, water_level, ..
-        } = object.shape
-        {
-            let field = match path {
-                "island16.pgm" => {
-                    HeightField::new(Samples::U16(&sixteen), N, N, HeightConvention::Gray16)
-                }
-                "island8.pgm" => {
-                    HeightField::new(Samples::U8(&eight), N, N, HeightConvention::Gray8)
-                }
-                other => panic!("unexpected height field {other}"),
-            };
-            let field = field
-                .unwrap()
-                .with_water_level(water_level)
-                .unwrap()
-                .with_transform(object.transform);
-            fields.push(field);
-        }
+    for (_, source, transform) in scene.height_field_sources() {
+        let field = match source.path {
+            "island16.pgm" => {
+                HeightField::new(Samples::U16(&sixteen), N, N, HeightConvention::Gray16)
+            }
+            "island8.pgm" => HeightField::new(Samples::U8(&eight), N, N, HeightConvention::Gray8),
+            other => panic!("unexpected height field {other}"),
+        };
+        let field = field
+            .unwrap()
+            .with_water_level(source.water_level)
+            .unwrap()
+            .with_transform(*transform);
+        fields.push(field);
     }
     // `render_linear` takes a scene with the test capacities.
     let (px, _) = render_linear(&scene, &fields, W, H, 1);

@@ -5,9 +5,17 @@ use hfray::glam::{DVec3, Vec3};
 use hfray::scene::colors::{named_color, COLORS};
 use hfray::scene::lexer::{Lexer, TokenKind};
 use hfray::scene::{
-    parse_scene, CameraDesc, Diagnostic, Finish, ImageFormat, Object, ParseOptions, Pigment,
-    Projection, Scene, Severity, Shape,
+    parse_scene, CameraDesc, Diagnostic, Finish, HeightFieldSource, ImageFormat, Object,
+    ParseOptions, Pigment, Projection, Scene, Severity, Shape,
 };
+
+/// Each parsed height field's index, format and file name.
+fn named<'a>(scene: &S<'a>) -> Vec<(usize, ImageFormat, &'a str)> {
+    scene
+        .height_field_sources()
+        .map(|(i, source, _)| (i, source.format, source.path))
+        .collect()
+}
 use hfray::Transform;
 
 type S<'a> = Scene<'a, 16, 4>;
@@ -88,12 +96,14 @@ fn thesis_section_5_4_blocks_verbatim() {
     assert_eq!(
         hf.shape,
         Shape::HeightField {
-            format: ImageFormat::Gif,
-            path: "CANYON.GIF",
-            smooth: false,
-            water_level: 0.01,
-            palette_colors: true,
             field_index: 0,
+            smooth: false,
+            source: Some(HeightFieldSource {
+                format: ImageFormat::Gif,
+                path: "CANYON.GIF",
+                water_level: 0.01,
+                palette_colors: true,
+            }),
         }
     );
     assert_eq!(hf.pigment.color, Vec3::new(1.0, 0.8, 0.8));
@@ -103,10 +113,7 @@ fn thesis_section_5_4_blocks_verbatim() {
         .then(&t_rotate(-20.0, 25.0, 0.0))
         .then(&t_translate(0.0, 0.0, 0.0));
     assert_eq!(hf.transform, expected);
-    assert_eq!(
-        scene.height_fields().collect::<Vec<_>>(),
-        vec![(0, ImageFormat::Gif, "CANYON.GIF")]
-    );
+    assert_eq!(named(&scene), vec![(0, ImageFormat::Gif, "CANYON.GIF")]);
 }
 
 #[test]
@@ -118,13 +125,12 @@ fn pov_ray_spelling_of_the_thesis_height_field() {
     match only_object(&scene).shape {
         Shape::HeightField {
             smooth,
-            water_level,
-            palette_colors,
+            source: Some(source),
             ..
         } => {
             assert!(smooth);
-            assert_eq!(water_level, 0.01);
-            assert!(!palette_colors);
+            assert_eq!(source.water_level, 0.01);
+            assert!(!source.palette_colors);
         }
         other => panic!("{other:?}"),
     }
@@ -149,11 +155,7 @@ fn height_field_formats_and_extension_inference() {
         (r#"height_field { gif "x.dat" }"#, ImageFormat::Gif, "x.dat"),
     ] {
         let scene = parse(src);
-        assert_eq!(
-            scene.height_fields().collect::<Vec<_>>(),
-            vec![(0, format, path)],
-            "{src}"
-        );
+        assert_eq!(named(&scene), vec![(0, format, path)], "{src}");
     }
 }
 
@@ -167,7 +169,7 @@ fn height_field_indices_follow_file_order() {
            height_field { png "c.png" hierarchy off }"#,
     );
     assert_eq!(
-        scene.height_fields().collect::<Vec<_>>(),
+        named(&scene),
         vec![
             (0, ImageFormat::Gif, "a.gif"),
             (1, ImageFormat::Pgm, "b.pgm"),
@@ -714,10 +716,7 @@ height_field {
     assert_eq!(scene.objects.len(), 2);
     assert_eq!(scene.objects[0].finish.reflection, Vec3::splat(0.6));
     assert_eq!(scene.objects[0].pigment.color, Vec3::new(0.1, 0.3, 0.5));
-    assert_eq!(
-        scene.height_fields().collect::<Vec<_>>(),
-        vec![(0, ImageFormat::Gif, "mountain.gif")]
-    );
+    assert_eq!(named(&scene), vec![(0, ImageFormat::Gif, "mountain.gif")]);
 }
 
 #[test]
@@ -731,7 +730,10 @@ fn directives_inside_blocks_and_hierarchy_are_accepted() {
     let o = only_object(&scene);
     assert_eq!(o.pigment.color, Vec3::Y);
     match o.shape {
-        Shape::HeightField { water_level, .. } => assert_eq!(water_level, 0.25),
+        Shape::HeightField {
+            source: Some(source),
+            ..
+        } => assert_eq!(source.water_level, 0.25),
         other => panic!("{other:?}"),
     }
 }
@@ -747,7 +749,10 @@ fn pov_image_map_block_in_height_field_warns() {
         vec!["1:28: unsupported `image_map` in height_field: skipped"]
     );
     match only_object(&scene).shape {
-        Shape::HeightField { palette_colors, .. } => assert!(!palette_colors),
+        Shape::HeightField {
+            source: Some(source),
+            ..
+        } => assert!(!source.palette_colors),
         other => panic!("{other:?}"),
     }
 }

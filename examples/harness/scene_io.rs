@@ -1,6 +1,7 @@
 //! Scene files from disk: parse a `.pov` file and load the height-field
 //! images it names (relative to the scene file's folder), then build one
-//! [`HeightField`] per `field_index`, placed by its object.
+//! [`HeightField`] per `field_index` from what the file said about it (its
+//! [`HeightFieldSource`](hfray::scene::HeightFieldSource) and transform).
 //!
 //! Ownership is split in three steps because the scene borrows its text and
 //! the fields borrow their samples: the caller keeps the text, the parsed
@@ -8,7 +9,7 @@
 
 use std::path::{Path, PathBuf};
 
-use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
+use hfray::scene::{parse_scene, ParseOptions, Scene};
 use hfray::{HeightField, SkipGrid};
 
 use super::images::{load_height_field, LoadedField};
@@ -76,13 +77,14 @@ pub fn parse_file_scene<'src>(
 /// skip pyramid (walked by default; hits are the same as the flat walk's).
 pub fn load_fields(scene: &FileScene<'_>, scene_path: &Path) -> Result<Vec<LoadedField>, String> {
     let dir = scene_path.parent().unwrap_or(Path::new("."));
-    let mut named: Vec<_> = scene.height_fields().collect();
+    let mut named: Vec<_> = scene.height_field_sources().collect();
     named.sort_by_key(|(index, _, _)| *index);
     named
         .into_iter()
-        .map(|(_, format, file)| {
-            let resolved: PathBuf = dir.join(file);
-            let mut field = load_height_field(&resolved, format).map_err(|e| e.to_string())?;
+        .map(|(_, source, _)| {
+            let resolved: PathBuf = dir.join(source.path);
+            let mut field =
+                load_height_field(&resolved, source.format).map_err(|e| e.to_string())?;
             field
                 .build_skip()
                 .map_err(|e| format!("{}: {e}", resolved.display()))?;
@@ -91,40 +93,32 @@ pub fn load_fields(scene: &FileScene<'_>, scene_path: &Path) -> Result<Vec<Loade
         .collect()
 }
 
-/// One [`HeightField`] per loaded image, carrying its object's transform,
-/// water level and (for palette colouring) palette.
+/// One [`HeightField`] per loaded image: the one place a parsed height field
+/// becomes the field the renderer uses, with the file's transform, water
+/// level and (for palette colouring) palette.
 pub fn build_fields<'d>(
     scene: &FileScene<'_>,
     loaded: &'d [LoadedField],
 ) -> Result<Vec<HeightField<'d>>, String> {
     let mut fields: Vec<Option<HeightField<'d>>> = vec![None; loaded.len()];
-    for object in &scene.objects {
-        let Shape::HeightField {
-            path,
-            water_level,
-            palette_colors,
-            field_index,
-            ..
-        } = object.shape
-        else {
-            continue;
-        };
+    for (field_index, source, transform) in scene.height_field_sources() {
+        let path = source.path;
         let data = loaded
             .get(field_index)
             .ok_or_else(|| format!("{path}: height field {field_index} was not loaded"))?;
         let samples = data.samples();
         let mut field = HeightField::new(samples, data.width(), data.depth(), data.convention())
             .map_err(|e| format!("{path}: {e}"))?
-            .with_water_level(water_level)
+            .with_water_level(source.water_level)
             .map_err(|e| format!("{path}: {e}"))?
-            .try_with_transform(object.transform)
+            .try_with_transform(*transform)
             .map_err(|e| format!("{path}: {e}"))?;
         if let Some(bytes) = data.skip_bytes() {
             let grid =
                 SkipGrid::from_precomputed(bytes, &field).map_err(|e| format!("{path}: {e}"))?;
             field = field.with_skip(grid).map_err(|e| format!("{path}: {e}"))?;
         }
-        if palette_colors {
+        if source.palette_colors {
             match data.palette() {
                 Some(palette) => {
                     field = field

@@ -15,7 +15,7 @@ use std::ops::ControlFlow;
 
 use hfray::pixel::LinearRgb;
 use hfray::render::{render, render_depth, RenderSettings};
-use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
+use hfray::scene::{parse_scene, ParseOptions, Scene};
 use hfray::{HeightConvention, HeightField, Samples};
 use libfuzzer_sys::fuzz_target;
 
@@ -90,22 +90,13 @@ fn fields<'a>(
     palette: &'a [[u8; 3]; 256],
 ) -> Option<Vec<HeightField<'a>>> {
     let mut out: Vec<Option<HeightField<'a>>> = Vec::new();
-    for object in &scene.objects {
-        let Shape::HeightField {
-            water_level,
-            palette_colors,
-            field_index,
-            ..
-        } = object.shape
-        else {
-            continue;
-        };
+    for (field_index, source, transform) in scene.height_field_sources() {
         let mut f = HeightField::new(Samples::U8(samples), fw, fd, HeightConvention::Indexed)
             .ok()?
-            .with_water_level(water_level)
+            .with_water_level(source.water_level)
             .ok()?
-            .with_transform(object.transform);
-        if palette_colors {
+            .with_transform(*transform);
+        if source.palette_colors {
             f = f.with_palette(palette).ok()?;
         }
         if out.len() <= field_index {

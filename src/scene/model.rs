@@ -3,9 +3,11 @@
 //! The parser fills it; firmware can also build one directly in code.
 //! Capacities are const generics, so a build pays only for the objects and
 //! lights its scenes need. Height-field *data* is not part of the model:
-//! each `height_field` object names its image and gets a `field_index`; the
-//! caller loads the images and hands the renderer one
-//! [`HeightField`](crate::HeightField) per index.
+//! each height-field object refers by `field_index` to one of the
+//! [`HeightField`](crate::HeightField)s handed to the renderer, which carry
+//! their placement, water level and palette. A parsed `height_field` also
+//! keeps what the file said about it (a [`HeightFieldSource`]), from which
+//! the caller builds that field.
 
 use glam::{DAffine3, Vec3};
 use heapless::Vec;
@@ -330,25 +332,38 @@ pub enum ImageFormat {
     Pot,
 }
 
+/// What a scene file says about a `height_field`: the description the
+/// caller builds the [`HeightField`](crate::HeightField) from (with the
+/// object's transform). The renderer never reads it: it renders the field.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeightFieldSource<'src> {
+    /// The image format keyword (or the one the extension implies).
+    pub format: ImageFormat,
+    /// The file name as written (relative to the scene file).
+    pub path: &'src str,
+    /// `water_level` in `[0, 1]`.
+    pub water_level: f32,
+    /// Thesis-style palette colouring (`image_map` in the thesis's
+    /// syntax): the field is to be built with its image's palette, and a
+    /// triangle's colour is then the mean of its vertices' palette colours.
+    pub palette_colors: bool,
+}
+
 /// The geometry of an object, in object space.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shape<'src> {
-    /// `height_field { format "file" .. }`: the unit cube.
+    /// A height field: the caller's `fields[field_index]`, placed, flooded
+    /// and coloured as that [`HeightField`](crate::HeightField) says (its
+    /// transform, water level and palette; a field with a palette is
+    /// coloured by it).
     HeightField {
-        /// The image format keyword.
-        format: ImageFormat,
-        /// The file name as written (relative to the scene file).
-        path: &'src str,
-        /// `smooth`: interpolated shading normals.
-        smooth: bool,
-        /// `water_level` in `[0, 1]`.
-        water_level: f32,
-        /// Thesis-style palette colouring (`image_map` in the thesis's
-        /// syntax): a triangle's colour is the mean of its vertices'
-        /// palette colours.
-        palette_colors: bool,
         /// Index into the height fields handed to the renderer.
         field_index: usize,
+        /// `smooth`: interpolated shading normals.
+        smooth: bool,
+        /// The file's description of the field, when a file named one
+        /// (`None` in scenes built in code).
+        source: Option<HeightFieldSource<'src>>,
     },
     /// `plane { normal, distance }`: points with `p·normal = distance`.
     Plane {
@@ -408,6 +423,9 @@ pub struct Object<'src> {
     /// Geometry in object space.
     pub shape: Shape<'src>,
     /// Object-to-world placement (all `scale/rotate/translate`, in order).
+    /// A height field is placed by its field's own transform instead; for
+    /// a parsed one this is the transform the file gave, to build the field
+    /// with.
     pub transform: Transform,
     /// Colour.
     pub pigment: Pigment,
@@ -494,17 +512,46 @@ impl<'src, const OBJECTS: usize, const LIGHTS: usize, const GRADIENTS: usize>
         })
     }
 
-    /// The height-field objects in `field_index` order, with their image
-    /// format and path (the harness loads these).
-    pub fn height_fields(&self) -> impl Iterator<Item = (usize, ImageFormat, &'src str)> + '_ {
+    /// The parsed height-field objects, in file order (which is
+    /// `field_index` order): each one's index, what the file said about it
+    /// and the transform to place it by (the harness builds the fields from
+    /// these).
+    pub fn height_field_sources(
+        &self,
+    ) -> impl Iterator<Item = (usize, HeightFieldSource<'src>, &Transform)> + '_ {
         self.objects.iter().filter_map(|o| match o.shape {
             Shape::HeightField {
-                format,
-                path,
                 field_index,
+                source: Some(source),
                 ..
-            } => Some((field_index, format, path)),
+            } => Some((field_index, source, &o.transform)),
             _ => None,
         })
+    }
+
+    /// Adds a height field built in code: `fields[field_index]` of the
+    /// render, which already carries its placement, water level and
+    /// palette, with `smooth` normals or not, coloured by `pigment` (a
+    /// palette, if the field has one, replaces its colour) and `finish`.
+    /// `None` if the scene is full.
+    pub fn add_height_field(
+        &mut self,
+        field_index: usize,
+        smooth: bool,
+        pigment: Pigment,
+        finish: Finish,
+    ) -> Option<()> {
+        self.objects
+            .push(Object {
+                shape: Shape::HeightField {
+                    field_index,
+                    smooth,
+                    source: None,
+                },
+                transform: Transform::IDENTITY,
+                pigment,
+                finish,
+            })
+            .ok()
     }
 }

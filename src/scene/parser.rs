@@ -15,8 +15,9 @@ use super::error::{Arity, Diagnostic, DiagnosticKind as K, Triple};
 use super::expr::{BinOp, Value};
 use super::lexer::{Lexer, Pos, Token, TokenKind as T};
 use super::model::{
-    CameraDesc, Color, ColorMap, ColorMapEntry, Finish, GlobalSettings, Gradient, ImageFormat,
-    Light, Object, Pigment, Projection, Scene, Shape, MAX_COLOR_MAP_ENTRIES,
+    CameraDesc, Color, ColorMap, ColorMapEntry, Finish, GlobalSettings, Gradient,
+    HeightFieldSource, ImageFormat, Light, Object, Pigment, Projection, Scene, Shape,
+    MAX_COLOR_MAP_ENTRIES,
 };
 use crate::transform::Transform;
 
@@ -1590,12 +1591,14 @@ impl<'src> Parser<'src, '_> {
             Kw::HeightField => {
                 let (format, path) = self.height_field_source()?;
                 Shape::HeightField {
-                    format,
-                    path,
-                    smooth: false,
-                    water_level: 0.0,
-                    palette_colors: false,
                     field_index,
+                    smooth: false,
+                    source: Some(HeightFieldSource {
+                        format,
+                        path,
+                        water_level: 0.0,
+                        palette_colors: false,
+                    }),
                 }
             }
             Kw::Plane => {
@@ -1764,8 +1767,12 @@ impl<'src> Parser<'src, '_> {
                         self.skip_item(name)?;
                     } else {
                         self.bump()?;
-                        if let Shape::HeightField { palette_colors, .. } = &mut shape {
-                            *palette_colors = true;
+                        if let Shape::HeightField {
+                            source: Some(source),
+                            ..
+                        } = &mut shape
+                        {
+                            source.palette_colors = true;
                         }
                     }
                 }
@@ -1809,8 +1816,12 @@ impl<'src> Parser<'src, '_> {
                             },
                         ));
                     }
-                    if let Shape::HeightField { water_level, .. } = &mut shape {
-                        *water_level = w;
+                    if let Shape::HeightField {
+                        source: Some(source),
+                        ..
+                    } = &mut shape
+                    {
+                        source.water_level = w;
                     }
                 }
                 Some(Kw::Hierarchy) => {

@@ -29,9 +29,7 @@ use core::ops::ControlFlow;
 
 use hfray::glam::{DVec3, Vec3};
 use hfray::heightfield::HeightFieldError;
-use hfray::scene::model::{
-    CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Projection, Scene, Shape,
-};
+use hfray::scene::model::{CameraDesc, Finish, Light, Object, Pigment, Projection, Scene, Shape};
 use hfray::transform::TransformError;
 use hfray::{
     Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb888, Samples,
@@ -230,11 +228,8 @@ pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
         .objects
         .push(Object {
             shape: Shape::HeightField {
-                format: ImageFormat::Png,
-                path: "data/maunga_whau_87x61.u8.raw",
+                source: None,
                 smooth: true,
-                water_level: 0.0,
-                palette_colors: false,
                 field_index: 0,
             },
             transform,
