@@ -150,7 +150,7 @@ fn section_a(runs: usize) {
     write_pgm(&dir.join("bench512.pgm"), 512, &fractal(512, 7));
     let scene_path = dir.join("bench512.pov");
     std::fs::write(&scene_path, SCENE).unwrap();
-    let scene = parse_file_scene(&scene_path, SCENE, &ParseOptions::default(), &mut |w| {
+    let scene = parse_file_scene(&scene_path, SCENE, &ParseOptions::new(320, 240), &mut |w| {
         eprintln!("{w}")
     })
     .unwrap();

@@ -87,7 +87,7 @@
 //!
 //! ```
 //! use std::ops::ControlFlow;
-//! use hfray::scene::{parse_scene, ParseOptions, Scene};
+//! use hfray::scene::{parse_scene, Scene};
 //! use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb888, Samples};
 //!
 //! let text = r#"
@@ -102,7 +102,9 @@
 //!         scale <1, 0.3, 1>
 //!     }
 //! "#;
-//! let options = ParseOptions { image_width: 64, image_height: 48, ..ParseOptions::default() };
+//! let settings = RenderSettings::new(64, 48).with_aa(2); // 2 × 2 supersampling
+//! // The image size the scene's `image_width`/`image_height` see is the render's.
+//! let options = settings.parse_options();
 //! // Up to 16 objects and 4 lights; warnings name LINE:COL.
 //! let scene: Scene<'_, 16, 4> = parse_scene(text, &options, &mut |w| eprintln!("warning: {w}"))
 //!     .unwrap_or_else(|e| panic!("scene.pov:{e}"));
@@ -125,7 +127,6 @@
 //!     fields.push(field);
 //! }
 //!
-//! let settings = RenderSettings::new(64, 48).with_aa(2); // 2 × 2 supersampling
 //! let mut line = vec![Rgb888::default(); 64];
 //! let mut ppm = b"P6 64 48 255\n".to_vec();
 //! let stats = render(&scene, &fields, &settings, &mut line, &mut |_y, row: &[Rgb888]| {

@@ -33,7 +33,7 @@ use glam::Vec3;
 use crate::camera::{Camera, CameraError};
 use crate::heightfield::HeightField;
 use crate::pixel::Pixel;
-use crate::scene::Scene;
+use crate::scene::{ParseOptions, Scene};
 use crate::shading::Tracer;
 use crate::shapes::ShapeError;
 use crate::traversal::Counters;
@@ -59,6 +59,12 @@ pub const MAX_AA: u32 = 16;
 pub const MAX_SAMPLES_PER_SIDE: u32 = 1 << 23;
 
 impl RenderSettings {
+    /// The options to parse a scene to be rendered with these settings:
+    /// its `image_width` and `image_height` are this image's size.
+    pub const fn parse_options(&self) -> ParseOptions {
+        ParseOptions::new(self.width, self.height)
+    }
+
     /// The whole `width × height` image, one ray per pixel.
     pub fn new(width: u32, height: u32) -> Self {
         RenderSettings {

@@ -102,7 +102,7 @@ fn build_everything() -> Result<(), Box<dyn Error>> {
 fn parse_static_scene() -> Result<(), Box<dyn Error>> {
     let _scene: Scene<'static, 1, 1> = parse_scene(
         "sphere { <0, 0, 0>, 1 } bogus",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )?;
     Ok(())

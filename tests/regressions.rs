@@ -10,11 +10,7 @@ use hfray::{render, LinearRgb, RenderSettings};
 /// Renders `src` (no height fields) at `width × height` with `aa`, in
 /// linear colour.
 fn render_text(src: &str, width: u32, height: u32, aa: u32) -> Vec<LinearRgb> {
-    let options = ParseOptions {
-        image_width: width,
-        image_height: height,
-        ..ParseOptions::default()
-    };
+    let options = ParseOptions::new(width, height);
     let scene: Scene<'_, 16, 4> = parse_scene(src, &options, &mut |_| {}).unwrap();
     let mut line = vec![LinearRgb::default(); width as usize];
     let mut out = Vec::new();
@@ -257,7 +253,7 @@ fn fuzz_seed_images_all_decode() {
 fn fuzz_seed_scenes_all_parse() {
     for (name, bytes) in seeds("parse_scene") {
         let text = std::str::from_utf8(&bytes).unwrap();
-        if let Err(e) = parse_scene::<32, 8, 4>(text, &ParseOptions::default(), &mut |_| {}) {
+        if let Err(e) = parse_scene::<32, 8, 4>(text, &ParseOptions::new(320, 240), &mut |_| {}) {
             panic!("{name}: {e}");
         }
     }
@@ -269,7 +265,7 @@ fn fuzz_seed_scenes_all_parse() {
 fn fuzz_seed_renders_are_finite() {
     for (name, bytes) in seeds("render_scene") {
         let text = std::str::from_utf8(&bytes[8..]).unwrap();
-        let options = ParseOptions::default();
+        let options = ParseOptions::new(320, 240);
         let Ok(scene) = parse_scene::<16, 4, 4>(text, &options, &mut |_| {}) else {
             panic!("{name}: does not parse");
         };

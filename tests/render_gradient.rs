@@ -60,10 +60,8 @@ fn pgm16(samples: &[u16]) -> Vec<u8> {
 /// `File_Gamma=1.0` output).
 fn render_hfray() -> Vec<[u8; 3]> {
     let options = ParseOptions {
-        image_width: W,
-        image_height: H,
         strict: true, // every item of the file is implemented
-        ..ParseOptions::default()
+        ..ParseOptions::new(W, H)
     };
     let scene: TestScene = parse_scene(SCENE, &options, &mut |w| panic!("{w}")).unwrap();
     let (eight, sixteen) = (island(), island16());
@@ -199,7 +197,7 @@ fn gradient_repeats_each_unit() {
 fn pigment_before_transforms_moves_with_the_object_one_after_does_not() {
     let parse = |text: &str| {
         let scene: Scene<'_, 8, 4> =
-            parse_scene(text, &ParseOptions::default(), &mut |w| panic!("{w}")).unwrap();
+            parse_scene(text, &ParseOptions::new(320, 240), &mut |w| panic!("{w}")).unwrap();
         let object = scene.objects[0];
         let g = scene.gradients[usize::from(object.pigment.gradient.expect("a gradient"))];
         // The pattern's value at world points, as the renderer sees it.
@@ -229,7 +227,7 @@ fn pigment_before_transforms_moves_with_the_object_one_after_does_not() {
 #[test]
 fn color_map_errors_are_located() {
     let error = |text: &str| {
-        parse_scene::<8, 4, 4>(text, &ParseOptions::default(), &mut |_| {})
+        parse_scene::<8, 4, 4>(text, &ParseOptions::new(320, 240), &mut |_| {})
             .unwrap_err()
             .to_string()
     };
@@ -258,7 +256,7 @@ fn color_map_errors_are_located() {
 fn gradient_direction_1e30_is_normalised_and_the_default_map_is_gray() {
     let scene: Scene<'_, 1, 1> = parse_scene(
         "sphere { 0, 1 pigment { gradient <1e30, 0, 0> } }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |w| panic!("{w}"),
     )
     .unwrap();
@@ -275,17 +273,17 @@ fn gradient_direction_1e30_is_normalised_and_the_default_map_is_gray() {
 fn gradient_pool_fills_in_file_order_and_a_full_pool_is_a_located_error() {
     let two = "sphere { 0, 1 pigment { gradient y } }\n\
                sphere { 0, 1 pigment { gradient x } }";
-    let e = parse_scene::<2, 1, 1>(two, &ParseOptions::default(), &mut |_| {}).unwrap_err();
+    let e = parse_scene::<2, 1, 1>(two, &ParseOptions::new(320, 240), &mut |_| {}).unwrap_err();
     assert_eq!(
         e.to_string(),
         "2:1: too many gradient pigments (capacity 1)"
     );
-    let scene = parse_scene::<2, 1, 2>(two, &ParseOptions::default(), &mut |_| {}).unwrap();
+    let scene = parse_scene::<2, 1, 2>(two, &ParseOptions::new(320, 240), &mut |_| {}).unwrap();
     assert_eq!(scene.objects[0].pigment.gradient, Some(0));
     assert_eq!(scene.objects[1].pigment.gradient, Some(1));
     assert_eq!(scene.gradients[1].direction, Vec3::X);
     let flat = "sphere { 0, 1 pigment { gradient y color rgb 1 } pigment { color rgb 1 } }";
-    let scene = parse_scene::<1, 1, 0>(flat, &ParseOptions::default(), &mut |_| {}).unwrap();
+    let scene = parse_scene::<1, 1, 0>(flat, &ParseOptions::new(320, 240), &mut |_| {}).unwrap();
     assert_eq!(scene.objects[0].pigment.gradient, None);
 }
 

@@ -14,7 +14,7 @@ fn err_with(src: &str, opts: &ParseOptions) -> String {
 }
 
 fn err(src: &str) -> String {
-    err_with(src, &ParseOptions::default())
+    err_with(src, &ParseOptions::new(320, 240))
 }
 
 // --- lexical ---------------------------------------------------------------
@@ -267,7 +267,7 @@ fn degenerate_shapes() {
 fn degenerate_triangle_is_an_error_in_strict_mode() {
     let strict = ParseOptions {
         strict: true,
-        ..ParseOptions::default()
+        ..ParseOptions::new(320, 240)
     };
     assert_eq!(
         err_with("\ntriangle { 0, x, 2*x }", &strict),
@@ -311,7 +311,7 @@ fn camera_look_direction_parallel_to_sky() {
     // Checked at the end of the block: a later `sky` fixes it.
     parse_scene::<1, 1, 4>(
         "camera { location <0, 10, 0> look_at 0 sky z }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap();
@@ -444,7 +444,7 @@ fn declaration_errors() {
 fn too_many_objects() {
     let e = parse_scene::<2, 1, 4>(
         "sphere { 0, 1 }\nsphere { 0, 1 }\nsphere { 0, 1 }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap_err();
@@ -455,7 +455,7 @@ fn too_many_objects() {
 fn too_many_lights() {
     let e = parse_scene::<2, 1, 4>(
         "light_source { 0 color 1 }\nlight_source { 0 color 1 }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap_err();
@@ -505,7 +505,7 @@ fn deep_nesting_is_reported_not_a_stack_overflow() {
     );
     // Many unary minus signs are a loop, not recursion.
     let minus = format!("sphere {{ 0, {}1 }}", "- ".repeat(100_000));
-    assert!(parse_scene::<1, 1, 4>(&minus, &ParseOptions::default(), &mut |_| {}).is_ok());
+    assert!(parse_scene::<1, 1, 4>(&minus, &ParseOptions::new(320, 240), &mut |_| {}).is_ok());
 }
 
 // --- never panic --------------------------------------------------------------------
@@ -628,7 +628,7 @@ const FRAGMENTS: &[&str] = &[
 fn parser_never_panics_on_random_and_mutated_inputs() {
     let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
     let opts = [
-        ParseOptions::default(),
+        ParseOptions::new(320, 240),
         ParseOptions {
             strict: true,
             image_width: 0,

@@ -31,7 +31,7 @@ fn parse_opts<'a>(src: &'a str, opts: &ParseOptions) -> (S<'a>, Vec<String>) {
 }
 
 fn parse(src: &str) -> S<'_> {
-    let (scene, warnings) = parse_opts(src, &ParseOptions::default());
+    let (scene, warnings) = parse_opts(src, &ParseOptions::new(320, 240));
     assert!(warnings.is_empty(), "unexpected warnings: {warnings:?}");
     scene
 }
@@ -181,11 +181,7 @@ fn height_field_indices_follow_file_order() {
 
 #[test]
 fn camera_records_every_item() {
-    let opts = ParseOptions {
-        image_width: 640,
-        image_height: 480,
-        ..ParseOptions::default()
-    };
+    let opts = ParseOptions::new(640, 480);
     let (scene, w) = parse_opts(
         "camera { perspective location <1, 2, -3> look_at <0, 1, 0> angle 45
                   right x*image_width/image_height up y direction <0, 0, 2> sky <0, 1, 0.1> }",
@@ -600,7 +596,7 @@ fn colors_inc_table_matches_pov_ray() {
 #[test]
 fn normal_block_in_object_warns_with_position_and_is_skipped() {
     let src = "sphere { 0, 1\n  normal { bumps 0.5 scale 0.1 }\n  pigment { rgb 1 } }";
-    let (scene, warnings) = parse_opts(src, &ParseOptions::default());
+    let (scene, warnings) = parse_opts(src, &ParseOptions::new(320, 240));
     assert_eq!(
         warnings,
         vec!["2:3: unsupported `normal` in sphere: skipped".to_string()]
@@ -616,7 +612,7 @@ global_settings { adc_bailout 0.01 }
 sphere { 0, 1 no_shadow interior { ior 1.5 } hollow on
   pigment { checker color rgb 1 color rgb 0 scale 2 }
   finish { brilliance 2 phong 1 } }"#;
-    let (scene, warnings) = parse_opts(src, &ParseOptions::default());
+    let (scene, warnings) = parse_opts(src, &ParseOptions::new(320, 240));
     assert_eq!(
         warnings,
         vec![
@@ -643,7 +639,7 @@ fn strict_mode_turns_the_normal_warning_into_an_error() {
     let src = "sphere { 0, 1\n  normal { bumps 0.5 }\n}";
     let opts = ParseOptions {
         strict: true,
-        ..ParseOptions::default()
+        ..ParseOptions::new(320, 240)
     };
     let err = parse_scene::<4, 1, 4>(src, &opts, &mut |_| panic!("no warnings in strict mode"))
         .unwrap_err();
@@ -657,7 +653,7 @@ fn strict_mode_turns_the_normal_warning_into_an_error() {
 #[test]
 fn degenerate_triangle_is_dropped_with_a_warning() {
     let src = "triangle { <0, 0, 0>, <1, 1, 1>, <2, 2, 2> }\nsphere { 0, 1 }";
-    let (scene, warnings) = parse_opts(src, &ParseOptions::default());
+    let (scene, warnings) = parse_opts(src, &ParseOptions::new(320, 240));
     assert_eq!(
         warnings,
         vec!["1:1: degenerate triangle (zero area): dropped".to_string()]
@@ -670,7 +666,7 @@ fn capacity_exactly_filled_is_fine() {
     let scene = parse_scene::<3, 2, 4>(
         "sphere { 0, 1 } sphere { 0, 1 } sphere { 0, 1 }
          light_source { 0 color 1 } light_source { 0 color 1 }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap();
@@ -703,11 +699,9 @@ height_field {
   scale <1, 0.5, 1>
 }
 "#;
-    let opts = ParseOptions {
-        image_width: 320,
-        image_height: 200,
-        ..ParseOptions::default()
-    };
+    // The image size is the render's, stated once.
+    let opts = hfray::RenderSettings::new(320, 200).parse_options();
+    assert_eq!(opts, ParseOptions::new(320, 200));
     let (scene, w) = parse_opts(src, &opts);
     assert!(w.is_empty());
     assert!(close(scene.camera.right, Vec3::new(1.6, 0.0, 0.0)));
@@ -742,7 +736,7 @@ fn directives_inside_blocks_and_hierarchy_are_accepted() {
 fn pov_image_map_block_in_height_field_warns() {
     let (scene, w) = parse_opts(
         r#"height_field { gif "a.gif" image_map { gif "a.gif" } }"#,
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
     );
     assert_eq!(
         w,

@@ -33,11 +33,7 @@ fn with_default_scene<R>(
 ) -> R {
     let path = Path::new(SCENE);
     let text = read_scene_text(path).expect("scene text");
-    let options = ParseOptions {
-        image_width: width,
-        image_height: height,
-        ..ParseOptions::default()
-    };
+    let options = ParseOptions::new(width, height);
     let scene = parse_file_scene(path, &text, &options, &mut |_| {}).expect("parse");
     let loaded = load_fields(&scene, path).expect("load fields");
     let fields = build_fields(&scene, &loaded).expect("build fields");

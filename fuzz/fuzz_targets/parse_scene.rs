@@ -11,7 +11,7 @@ use libfuzzer_sys::fuzz_target;
 fn check<const O: usize, const L: usize, const G: usize>(src: &str, strict: bool) {
     let opts = ParseOptions {
         strict,
-        ..ParseOptions::default()
+        ..ParseOptions::new(320, 240)
     };
     let lines = src.split('\n').count() as u32;
     let check_diag = |d: &Diagnostic<'_>| {

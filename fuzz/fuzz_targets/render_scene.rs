@@ -29,11 +29,7 @@ fuzz_target!(|data: &[u8]| {
     let aa = 1 + u32::from(cfg[2]) % 3;
     let (fw, fd) = (2 + u32::from(cfg[3]) % 16, 2 + u32::from(cfg[4]) % 16);
     let text = String::from_utf8_lossy(text);
-    let options = ParseOptions {
-        image_width: width,
-        image_height: height,
-        ..ParseOptions::default()
-    };
+    let options = ParseOptions::new(width, height);
     let Ok(scene) = parse_scene::<16, 4, 4>(&text, &options, &mut |_| {}) else {
         return;
     };

@@ -29,6 +29,12 @@ pub const MAX_DEPTH: usize = 64;
 pub const MAX_DECLARATIONS: usize = 128;
 
 /// Parse settings that come from the command line rather than the file.
+///
+/// The image size has no default: it must be the size the scene is
+/// rendered at (`right x*image_width/image_height` would otherwise stretch
+/// the picture), so build these with
+/// [`RenderSettings::parse_options`](crate::RenderSettings::parse_options)
+/// or [`ParseOptions::new`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParseOptions {
     /// Value of `image_width` in expressions.
@@ -41,12 +47,13 @@ pub struct ParseOptions {
     pub strict: bool,
 }
 
-impl Default for ParseOptions {
-    /// POV-Ray's defaults: 320×240, clock 0, not strict.
-    fn default() -> Self {
+impl ParseOptions {
+    /// Options for an `image_width × image_height` image, clock 0, not
+    /// strict (POV-Ray's defaults for the rest).
+    pub const fn new(image_width: u32, image_height: u32) -> Self {
         ParseOptions {
-            image_width: 320,
-            image_height: 240,
+            image_width,
+            image_height,
             clock: 0.0,
             strict: false,
         }
