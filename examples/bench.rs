@@ -184,7 +184,7 @@ fn section_a(runs: usize) {
     write_pgm(&dir.join("bench512.pgm"), 512, &fractal(512, 7));
     let scene_path = dir.join("bench512.pov");
     std::fs::write(&scene_path, SCENE).unwrap();
-    let scene = parse_file_scene(&scene_path, SCENE, &ParseOptions::default(), &mut |w| {
+    let scene = parse_file_scene(&scene_path, SCENE, &ParseOptions::new(320, 240), &mut |w| {
         eprintln!("{w}")
     })
     .unwrap();
@@ -821,7 +821,7 @@ fn section_h(runs: usize) {
     let options = ParseOptions {
         image_width: LW,
         image_height: LH,
-        ..ParseOptions::default()
+        ..ParseOptions::new(320, 240)
     };
     let scene = parse_file_scene(&scene_path, &text, &options, &mut |w| eprintln!("{w}")).unwrap();
     let loaded = load_fields(&scene, &scene_path).unwrap();

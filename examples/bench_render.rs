@@ -18,7 +18,7 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use hfray::glam::{DVec3, Vec3};
-use hfray::scene::{CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Scene, Shape};
+use hfray::scene::{CameraDesc, Finish, Light, Object, Pigment, Scene, Shape};
 use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb888, Samples, Transform};
 
 const N: u32 = 512;
@@ -94,11 +94,8 @@ fn main() {
         .objects
         .push(Object {
             shape: Shape::HeightField {
-                format: ImageFormat::Pgm,
-                path: "bench.pgm",
+                source: None,
                 smooth: false,
-                water_level: 0.0,
-                palette_colors: false,
                 field_index: 0,
             },
             transform: t,

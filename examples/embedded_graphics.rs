@@ -187,11 +187,7 @@ where
 
 fn run(o: &Options) -> Result<(), String> {
     let text = read_scene_text(&o.scene)?;
-    let options = ParseOptions {
-        image_width: o.width,
-        image_height: o.height,
-        ..ParseOptions::default()
-    };
+    let options = ParseOptions::new(o.width, o.height);
     let scene = parse_file_scene(&o.scene, &text, &options, &mut |w| {
         eprintln!("warning: {w}")
     })?;

@@ -614,11 +614,7 @@ type Band = (Vec<[u8; 3]>, Vec<f32>, Stats);
 fn render_shot(out: &Path, shot: Shot) -> Result<Rendered> {
     let path = out.join(format!("{}.pov", shot.name));
     let text = read_scene_text(&path)?;
-    let opts = ParseOptions {
-        image_width: W,
-        image_height: H,
-        ..ParseOptions::default()
-    };
+    let opts = ParseOptions::new(W, H);
     let scene = parse_file_scene(&path, &text, &opts, &mut |w| eprintln!("warning: {w}"))?;
     let loaded = load_fields(&scene, &path)?;
     let fields = build_fields(&scene, &loaded)?;

@@ -1,6 +1,10 @@
-//! Real terrain → height field (§6.2.1.1): reads an ESRI ASCII grid
+//! Real terrain → height field (§6.2.1.1): reads a GeoTIFF elevation
+//! model (SRTM, Copernicus GLO-30, USGS 3DEP: int16, uint16 or float32,
+//! strips or tiles, deflate or LZW, predictors 2 and 3), an ESRI ASCII grid
 //! (`.asc`) or a plain numeric array, quantises it carefully to 8 or 16
 //! bits and writes a binary PGM that hfray and POV-Ray read exactly.
+//! No-data cells (GeoTIFF's GDAL tag 42113, `.asc`'s `NODATA_value`,
+//! `--nodata` for the others) are filled as `--fill` says.
 //!
 //! ```text
 //! cargo run --release --example import_terrain -- IN OUT.pgm \
@@ -59,8 +63,18 @@ fn main() -> ExitCode {
     let [input, output] = positional.as_slice() else {
         return usage();
     };
-    let grid = match std::fs::read_to_string(input) {
-        Ok(text) => {
+    let grid = match std::fs::read(input) {
+        Ok(bytes) if is_tiff(&bytes) => parse_geotiff(&bytes).map(|mut g| {
+            if let Some(marker) = nodata {
+                g.values
+                    .iter_mut()
+                    .filter(|v| **v == marker)
+                    .for_each(|v| *v = f64::NAN);
+            }
+            g
+        }),
+        Ok(bytes) => {
+            let text = String::from_utf8_lossy(&bytes);
             let first = text.split_whitespace().next().unwrap_or("");
             if first.eq_ignore_ascii_case("ncols") {
                 parse_asc(&text)

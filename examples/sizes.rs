@@ -3,13 +3,13 @@
 
 use hfray::camera::Camera;
 use hfray::render::{RenderSettings, Stats};
-use hfray::scene::{Object, Scene};
+use hfray::scene::{Gradient, Object, Scene};
 use hfray::shading::Tracer;
 use hfray::traversal::{Counters, GridHit, GridRay};
 use hfray::{FieldHit, HeightField, Ray, Transform};
 
 fn main() {
-    let rows: [(&str, usize); 15] = [
+    let rows: [(&str, usize); 16] = [
         (
             "HeightField (per field; samples are borrowed)",
             size_of::<HeightField<'static>>(),
@@ -31,9 +31,16 @@ fn main() {
             "Object (scene model, per object)",
             size_of::<Object<'static>>(),
         ),
-        ("Scene<'_, 4, 1>", size_of::<Scene<'static, 4, 1>>()),
         (
-            "Scene<'_, 32, 8> (default capacities)",
+            "Scene<'_, 4, 1, 0> (no gradient pigments)",
+            size_of::<Scene<'static, 4, 1, 0>>(),
+        ),
+        (
+            "Gradient (per gradient pigment, in the scene's pool)",
+            size_of::<Gradient>(),
+        ),
+        (
+            "Scene<'_, 32, 8> (default capacities: 4 gradients)",
             size_of::<Scene<'static, 32, 8>>(),
         ),
         (

@@ -105,7 +105,7 @@ fn render_z(scene: &FileScene<'_>, fields: &[HeightField<'_>], w: u32, h: u32) -
 
 fn scene_rows(path: &Path, w: u32, h: u32) -> Vec<Row> {
     let text = std::fs::read_to_string(path).unwrap();
-    let scene = parse_file_scene(path, &text, &ParseOptions::default(), &mut |_| {}).unwrap();
+    let scene = parse_file_scene(path, &text, &ParseOptions::new(320, 240), &mut |_| {}).unwrap();
     let loaded = load_fields(&scene, path).unwrap();
     let fields = build_fields(&scene, &loaded).unwrap();
     let grids: Vec<Vec<u8>> = fields

@@ -87,6 +87,60 @@ pub struct CameraRay {
     pub length: f32,
 }
 
+impl core::error::Error for CameraError {}
+
+/// Cameras for scenes built in code. Each takes the image's `aspect`
+/// (width / height), as POV-Ray scenes write `right x*image_width/image_height`
+/// (the bare default `right` is POV-Ray's fixed 1.33, whatever the image
+/// size). The field of view is POV-Ray's default (`direction` of length 1,
+/// about 67° across a 4:3 image) until [`with_angle`](Self::with_angle).
+/// [`Camera::new`] checks the result (a look-at point on the location, or a
+/// view straight up or down, is an error there).
+impl CameraDesc {
+    /// A perspective camera at `location` looking at `target`, `y` up.
+    pub fn looking_at(location: Vec3, target: Vec3, aspect: f32) -> CameraDesc {
+        CameraDesc {
+            location,
+            look_at: target,
+            right: Vec3::new(aspect, 0.0, 0.0),
+            ..CameraDesc::default()
+        }
+    }
+
+    /// A perspective camera at `location` facing `heading_degrees` about
+    /// the vertical (0 looks along `+z`, 90 along `+x`: clockwise seen from
+    /// above, as a compass) and tilted `pitch_degrees` up (negative: down),
+    /// `y` up. A pitch of ±90 has no horizon to keep level and is refused by
+    /// [`Camera::new`].
+    pub fn heading_pitch(
+        location: Vec3,
+        heading_degrees: f32,
+        pitch_degrees: f32,
+        aspect: f32,
+    ) -> CameraDesc {
+        let (heading, pitch) = (
+            (heading_degrees as f64).to_radians(),
+            (pitch_degrees as f64).to_radians(),
+        );
+        let view = DVec3::new(
+            libm::sin(heading) * libm::cos(pitch),
+            libm::sin(pitch),
+            libm::cos(heading) * libm::cos(pitch),
+        );
+        let target = (dv(location) + view).as_vec3();
+        CameraDesc::looking_at(location, target, aspect)
+    }
+
+    /// The same camera with a horizontal field of view of `degrees`
+    /// (POV-Ray's `angle`).
+    pub fn with_angle(self, degrees: f32) -> CameraDesc {
+        CameraDesc {
+            angle: Some(degrees),
+            ..self
+        }
+    }
+}
+
 /// A camera ready to generate rays for one image size.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
@@ -460,6 +514,39 @@ mod tests {
                 assert_eq!(same_xz, is_level, "{desc:?}");
             }
         }
+    }
+
+    #[test]
+    fn looking_at_takes_the_aspect_of_the_image() {
+        let desc = CameraDesc::looking_at(Vec3::new(0.0, 1.0, -3.0), Vec3::ZERO, 16.0 / 9.0);
+        let c = Camera::new(&desc, 1280, 720).unwrap();
+        assert!((c.right().length() / c.up().length() - 16.0 / 9.0).abs() < 1e-6);
+        // The centre pixel looks at the target.
+        let centre = c.ray(640.0, 360.0);
+        let to_target = (Vec3::ZERO - desc.location).normalize();
+        assert!(close(centre.direction, to_target), "{centre:?}");
+        let wide = Camera::new(&desc.with_angle(90.0), 1280, 720).unwrap();
+        // angle 90: |D| = |right| / 2.
+        assert!((wide.direction().length() - 8.0 / 9.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn heading_pitch_turns_like_a_compass_and_tilts_up() {
+        let at = Vec3::new(5.0, 2.0, 5.0);
+        let view = |heading, pitch| {
+            let desc = CameraDesc::heading_pitch(at, heading, pitch, 4.0 / 3.0);
+            Camera::new(&desc, 4, 3).unwrap().direction().normalize()
+        };
+        assert!(close(view(0.0, 0.0), Vec3::Z));
+        assert!(close(view(90.0, 0.0), Vec3::X));
+        assert!(close(view(180.0, 0.0), -Vec3::Z));
+        let up = view(0.0, 30.0);
+        assert!(close(up, Vec3::new(0.0, 0.5, 0.75_f32.sqrt())), "{up:?}");
+        let straight_down = CameraDesc::heading_pitch(at, 0.0, -90.0, 1.0);
+        assert_eq!(
+            Camera::new(&straight_down, 4, 4).unwrap_err(),
+            CameraError::SkyParallelToView
+        );
     }
 
     #[test]

@@ -366,8 +366,8 @@ impl NormalCache {
 impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
     /// Prepares `scene` (see the module docs for what it may hold) for
     /// `camera`.
-    pub fn new<const OBJECTS: usize>(
-        scene: &'a Scene<'_, OBJECTS, LIGHTS>,
+    pub fn new<const OBJECTS: usize, const GRADIENTS: usize>(
+        scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
         fields: &'a [HeightField<'a>],
         camera: &Camera,
     ) -> Result<Self, RenderError> {
@@ -377,39 +377,20 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
         };
         let Shape::HeightField {
             smooth,
-            water_level,
-            palette_colors,
             field_index,
             ..
         } = object.shape
         else {
             return limit(FixedLimit::OneHeightField);
         };
-        // The float frame's checks, in its order and with its errors.
+        // The float frame's checks, in its order and with its errors; the
+        // field carries its placement, water level and palette.
         let field = fields.get(field_index).ok_or(RenderError::MissingField {
             object: 0,
             field_index,
             fields: fields.len(),
         })?;
-        let mismatch = |what| RenderError::FieldMismatch {
-            object: 0,
-            field_index,
-            what,
-        };
-        use crate::render::FieldMismatch;
-        if object.transform != crate::Transform::IDENTITY && object.transform != *field.transform()
-        {
-            return Err(mismatch(FieldMismatch::Transform));
-        }
-        if water_level != field.water_level() {
-            return Err(mismatch(FieldMismatch::WaterLevel));
-        }
-        if palette_colors
-            && (field.palette().is_none()
-                || !matches!(field.samples(), crate::heightfield::Samples::U8(_)))
-        {
-            return Err(mismatch(FieldMismatch::Palette));
-        }
+        let palette_colors = field.palette().is_some();
         let (pigment, finish) = (object.pigment, object.finish);
         if finish.reflection.max_element() > 0.0 || pigment.filter != 0.0 || pigment.transmit != 0.0
         {
@@ -417,6 +398,9 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
         }
         if finish.phong != 0.0 || finish.specular != 0.0 {
             return limit(FixedLimit::Highlights);
+        }
+        if pigment.gradient.is_some() {
+            return limit(FixedLimit::Patterns);
         }
 
         // World ↔ grid (grid y = object y × Q16's Y_SCALE).
@@ -743,8 +727,8 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
 /// frame (see the module docs), one row at a time, handing each finished
 /// row to `sink`, as [`crate::render::render`] does. Scenes it does not
 /// draw are refused with [`RenderError::FixedFrame`].
-pub fn render<const O: usize, const L: usize>(
-    scene: &Scene<'_, O, L>,
+pub fn render<const O: usize, const L: usize, const G: usize>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [Rgb888],

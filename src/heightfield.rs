@@ -99,6 +99,9 @@ pub enum HeightFieldError {
     WaterLevel,
     /// The transform is not finite or not invertible.
     Transform,
+    /// A palette was given for 16-bit samples: palette colours are looked
+    /// up by 8-bit index.
+    PaletteNeeds8Bit,
 }
 
 impl core::fmt::Display for HeightFieldError {
@@ -123,9 +126,14 @@ impl core::fmt::Display for HeightFieldError {
             HeightFieldError::Transform => {
                 f.write_str("height field transform is singular or not finite")
             }
+            HeightFieldError::PaletteNeeds8Bit => f.write_str(
+                "a palette colours 8-bit samples by index; this height field has 16-bit samples",
+            ),
         }
     }
 }
+
+impl core::error::Error for HeightFieldError {}
 
 /// An RGB palette entry.
 pub type PaletteEntry = [u8; 3];
@@ -260,10 +268,17 @@ impl<'a> HeightField<'a> {
     }
 
     /// The same field with a 256-entry palette (for the thesis's palette
-    /// colouring, POV-Ray's `image_map` on height fields).
-    pub fn with_palette(mut self, palette: &'a [PaletteEntry; 256]) -> Self {
+    /// colouring, POV-Ray's `image_map` on height fields). Fails for
+    /// 16-bit samples, which have no palette index.
+    pub fn with_palette(
+        mut self,
+        palette: &'a [PaletteEntry; 256],
+    ) -> Result<Self, HeightFieldError> {
+        if let Samples::U16(_) = self.samples {
+            return Err(HeightFieldError::PaletteNeeds8Bit);
+        }
         self.palette = Some(palette);
-        self
+        Ok(self)
     }
 
     /// The same field placed in the world by `transform`.

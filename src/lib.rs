@@ -26,7 +26,7 @@
 //! ```
 //! use core::ops::ControlFlow;
 //! use hfray::glam::{DVec3, Vec3};
-//! use hfray::scene::{CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Scene, Shape};
+//! use hfray::scene::{CameraDesc, Finish, Light, Pigment, Scene};
 //! use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb565, Samples, Transform};
 //!
 //! // 5 × 5 palette indices in flash (height = index / 256): a small hill.
@@ -39,37 +39,25 @@
 //! ];
 //!
 //! // The unit cube, scaled to 2 × 0.6 × 2 and centred on the origin.
-//! let place = Transform::scale(DVec3::new(2.0, 0.6, 2.0))
-//!     .and_then(|s| Ok(s.then(&Transform::translate(DVec3::new(-1.0, 0.0, -1.0))?)))
+//! let place = Transform::builder()
+//!     .scale(DVec3::new(2.0, 0.6, 2.0))
+//!     .translate(DVec3::new(-1.0, 0.0, -1.0))
+//!     .build()
 //!     .expect("finite, invertible");
 //! let field = HeightField::new(Samples::U8(&TERRAIN), 5, 5, HeightConvention::Indexed)
 //!     .expect("5 × 5 samples")
 //!     .with_transform(place);
 //!
-//! // Room for 2 objects and 1 light, fixed at compile time.
-//! let mut scene: Scene<'static, 2, 1> = Scene::default();
-//! scene.camera = CameraDesc {
-//!     location: Vec3::new(0.0, 1.6, -2.6),
-//!     look_at: Vec3::new(0.0, 0.2, 0.0),
-//!     ..CameraDesc::default()
-//! };
+//! // Room for 2 objects, 1 light and no gradients, fixed at compile time.
+//! let mut scene: Scene<'static, 2, 1, 0> = Scene::default();
+//! let eye = Vec3::new(0.0, 1.6, -2.6);
+//! scene.camera = CameraDesc::looking_at(eye, Vec3::new(0.0, 0.2, 0.0), 32.0 / 24.0);
 //! scene.background = Vec3::new(0.5, 0.7, 0.9);
 //! let sun = Light { position: Vec3::new(-4.0, 6.0, -3.0), color: Vec3::ONE };
 //! scene.lights.push(sun).expect("capacity 1");
-//! let terrain = Object {
-//!     shape: Shape::HeightField {
-//!         format: ImageFormat::Gif, // only a label here: the data is TERRAIN
-//!         path: "",
-//!         smooth: true,
-//!         water_level: 0.0,
-//!         palette_colors: false,
-//!         field_index: 0, // fields[0]
-//!     },
-//!     transform: place,
-//!     pigment: Pigment { color: Vec3::new(0.45, 0.6, 0.3), ..Pigment::default() },
-//!     finish: Finish::default(),
-//! };
-//! scene.objects.push(terrain).expect("capacity 2");
+//! // The terrain is fields[0], smooth; its placement is the field's.
+//! let grass = Pigment { color: Vec3::new(0.45, 0.6, 0.3), ..Pigment::default() };
+//! scene.add_height_field(0, true, grass, Finish::default()).expect("capacity 2");
 //!
 //! let fields = [field];
 //! let mut line = [Rgb565::default(); 32]; // one 32-pixel row: 64 bytes
@@ -101,7 +89,7 @@
 //!
 //! ```
 //! use std::ops::ControlFlow;
-//! use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
+//! use hfray::scene::{parse_scene, Scene};
 //! use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb888, Samples};
 //!
 //! let text = r#"
@@ -116,7 +104,9 @@
 //!         scale <1, 0.3, 1>
 //!     }
 //! "#;
-//! let options = ParseOptions { image_width: 64, image_height: 48, ..ParseOptions::default() };
+//! let settings = RenderSettings::new(64, 48).with_aa(2); // 2 × 2 supersampling
+//! // The image size the scene's `image_width`/`image_height` see is the render's.
+//! let options = settings.parse_options();
 //! // Up to 16 objects and 4 lights; warnings name LINE:COL.
 //! let scene: Scene<'_, 16, 4> = parse_scene(text, &options, &mut |w| eprintln!("warning: {w}"))
 //!     .unwrap_or_else(|e| panic!("scene.pov:{e}"));
@@ -128,20 +118,17 @@
 //!         (128.0 + 90.0 * (x / 9.0).sin() * (z / 7.0).cos()) as u8
 //!     })
 //!     .collect();
-//! // One field per `field_index`, carrying its object's transform and water level.
+//! // One field per `field_index`, built from what the file said about it.
 //! let mut fields = Vec::new();
-//! for object in &scene.objects {
-//!     if let Shape::HeightField { water_level, field_index, .. } = object.shape {
-//!         assert_eq!(field_index, fields.len());
-//!         let field = HeightField::new(Samples::U8(&gray), 65, 65, HeightConvention::Gray8)
-//!             .and_then(|f| f.with_water_level(water_level))
-//!             .expect("valid field")
-//!             .with_transform(object.transform);
-//!         fields.push(field);
-//!     }
+//! for (field_index, source, transform) in scene.height_field_sources() {
+//!     assert_eq!((field_index, source.path), (fields.len(), "terrain.pgm"));
+//!     let field = HeightField::new(Samples::U8(&gray), 65, 65, HeightConvention::Gray8)
+//!         .and_then(|f| f.with_water_level(source.water_level))
+//!         .expect("valid field")
+//!         .with_transform(*transform);
+//!     fields.push(field);
 //! }
 //!
-//! let settings = RenderSettings::new(64, 48).with_aa(2); // 2 × 2 supersampling
 //! let mut line = vec![Rgb888::default(); 64];
 //! let mut ppm = b"P6 64 48 255\n".to_vec();
 //! let stats = render(&scene, &fields, &settings, &mut line, &mut |_y, row: &[Rgb888]| {
@@ -223,13 +210,15 @@
 //! **Scene** ([`scene`]). The scene model is plain data — camera, lights,
 //! background, objects with pigment and finish, global settings — in a
 //! [`Scene`](scene::Scene) whose capacities are const generics
-//! (`Scene<'src, OBJECTS, LIGHTS>`), so a build pays only for what its
+//! (`Scene<'src, OBJECTS, LIGHTS, GRADIENTS>`), so a build pays only for what its
 //! scenes need. Firmware fills one in code; [`parse_scene`](scene::parse_scene)
 //! reads a POV-Ray subset (including the thesis's own scene syntax) from a
 //! `&str` without allocating, borrowing names from the text, with errors
 //! and warnings as `LINE:COL: message`. Height-field *data* stays outside
 //! the scene: each `height_field` object has a `field_index` into the
-//! fields the caller passes to the renderer.
+//! fields the caller passes to the renderer, and each field carries its own
+//! placement, water level and palette (a parsed object's
+//! [`HeightFieldSource`](scene::HeightFieldSource) says how to build it).
 //!
 //! **Render and sinks** ([`render`](mod@render), [`pixel`], [`sink`]).
 //! [`render()`] traces one row at a time into the caller's line buffer
@@ -249,7 +238,7 @@
 //!
 //! A render needs the samples (borrowed, wherever they are), the scene
 //! (its capacities fixed at compile time), one line buffer, and a constant
-//! amount of stack (the [`Tracer`], [`Tracer::SIZE`] bytes, plus the fixed
+//! amount of stack (the [`Tracer`], `Tracer::<OBJECTS>::SIZE` bytes, plus the fixed
 //! frames of the walk and the shading loop): nothing grows with the image
 //! size, the field size or `max_trace_level`.
 //!
@@ -271,8 +260,9 @@
 //!   `fixed` crate); `f64-walk` (default): the `f64` walk.
 //! - `embedded-graphics`: [`sink`]'s `DrawTargetSink` for
 //!   `embedded-graphics-core` `DrawTarget`s (no_std).
-//! - `std`: enables nothing yet (reserved for `std::error::Error` impls);
-//!   the core never needs it.
+//! - `std`: enables nothing yet; the core never needs it (every public
+//!   error type implements `core::error::Error`, which is
+//!   `std::error::Error`).
 #![no_std]
 // `deny`, not `forbid`: `math::sqrtf` allows it for `vsqrt.f32` and `fsqrt`.
 #![deny(unsafe_code)]

@@ -23,10 +23,9 @@
 //! hit.
 //!
 //! Height fields are passed separately (`fields[i]` for an object's
-//! `field_index` `i`), each built by the caller with its object's
-//! transform, water level and palette; the field's own values are used and
-//! the renderer checks that they agree with the object
-//! ([`RenderError::FieldMismatch`]).
+//! `field_index` `i`); each carries its placement, water level and palette,
+//! and the scene's object only says which field, whether it is smooth, and
+//! its pigment and finish, so the two cannot disagree.
 //!
 //! **Camera rays.** Height fields are walked along the camera's
 //! unnormalised ray ([`Camera::camera_ray`]) over `[0, ∞)`, their `t` then
@@ -51,7 +50,7 @@ use glam::Vec3;
 use crate::camera::{Camera, CameraError};
 use crate::heightfield::{ColumnHint, HeightField};
 use crate::pixel::Pixel;
-use crate::scene::Scene;
+use crate::scene::{ParseOptions, Scene};
 use crate::shading::Tracer;
 use crate::shapes::ShapeError;
 use crate::traversal::Counters;
@@ -91,6 +90,12 @@ pub const MAX_AA: u32 = 16;
 pub const MAX_SAMPLES_PER_SIDE: u32 = 1 << 23;
 
 impl RenderSettings {
+    /// The options to parse a scene to be rendered with these settings:
+    /// its `image_width` and `image_height` are this image's size.
+    pub const fn parse_options(&self) -> ParseOptions {
+        ParseOptions::new(self.width, self.height)
+    }
+
     /// The whole `width × height` image, one ray per pixel.
     pub fn new(width: u32, height: u32) -> Self {
         RenderSettings {
@@ -194,18 +199,6 @@ impl Stats {
     }
 }
 
-/// Which property of a height field disagrees with its object.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FieldMismatch {
-    /// The object has a transform (not the identity) different from the
-    /// field's: build the field with `.with_transform(object.transform)`.
-    Transform,
-    /// The object's `water_level` differs from the field's.
-    WaterLevel,
-    /// `palette_colors` without a palette, or with 16-bit samples.
-    Palette,
-}
-
 /// Why a render could not start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RenderError {
@@ -257,6 +250,15 @@ pub enum RenderError {
         /// How many fields were supplied.
         fields: usize,
     },
+    /// An object's pigment refers to a gradient not in `scene.gradients`.
+    MissingGradient {
+        /// Index of the object.
+        object: usize,
+        /// Its pigment's `gradient` index.
+        gradient: u8,
+        /// How many gradients the scene holds.
+        gradients: usize,
+    },
     /// An object uses a shading term this build leaves out (reflection or
     /// transparency without the `secondary-rays` feature).
     NotBuilt {
@@ -277,15 +279,6 @@ pub enum RenderError {
         /// What it leaves out.
         what: FixedLimit,
     },
-    /// A height field disagrees with its object.
-    FieldMismatch {
-        /// Index of the object.
-        object: usize,
-        /// Its `field_index`.
-        field_index: usize,
-        /// What differs.
-        what: FieldMismatch,
-    },
 }
 
 /// What the fixed-point frame (`crate::fixed_frame`, feature `fixed-frame`)
@@ -298,6 +291,8 @@ pub enum FixedLimit {
     SecondaryRays,
     /// Phong or specular highlights.
     Highlights,
+    /// Pigment patterns (`gradient`).
+    Patterns,
     /// Anti-aliasing (`aa` above 1).
     Aa,
     /// More lights than the frame was built for.
@@ -313,6 +308,7 @@ impl core::fmt::Display for FixedLimit {
             FixedLimit::OneHeightField => "the scene must be exactly one height field",
             FixedLimit::SecondaryRays => "reflection and transparency are not drawn",
             FixedLimit::Highlights => "phong and specular highlights are not drawn",
+            FixedLimit::Patterns => "pigment patterns (gradient) are not drawn",
             FixedLimit::Aa => "anti-aliasing is not drawn (aa must be 1)",
             FixedLimit::Lights => "too many lights",
             FixedLimit::Range => {
@@ -360,30 +356,28 @@ impl core::fmt::Display for RenderError {
                 f,
                 "object {object}: height field {field_index} was not supplied ({fields} given)"
             ),
+            RenderError::MissingGradient {
+                object,
+                gradient,
+                gradients,
+            } => write!(
+                f,
+                "object {object}: gradient {gradient} is not in the scene ({gradients} there)"
+            ),
             RenderError::NotBuilt { object } => write!(
                 f,
                 "object {object} reflects or is transparent, but this build leaves secondary \
                  rays out: enable hfray's `secondary-rays` feature"
             ),
             RenderError::FixedFrame { what } => write!(f, "fixed-point frame: {what}"),
-            RenderError::FieldMismatch {
-                object,
-                field_index,
-                what,
-            } => write!(
-                f,
-                "object {object}: height field {field_index} {}",
-                match what {
-                    FieldMismatch::Transform =>
-                        "has a different transform than its object (build it with with_transform)",
-                    FieldMismatch::WaterLevel => "has a different water_level than its object",
-                    FieldMismatch::Palette =>
-                        "needs an 8-bit palette for palette colours but has none",
-                }
-            ),
         }
     }
 }
+
+// The messages of the camera and shape errors are part of this one's
+// Display, so they are not also given as `source` (a chain would print
+// them twice).
+impl core::error::Error for RenderError {}
 
 pub(crate) fn check(settings: &RenderSettings, line_len: usize) -> Result<(), RenderError> {
     if settings.width == 0 || settings.height == 0 {
@@ -488,8 +482,8 @@ fn check_hints(
 /// Renders `settings.rows` of `scene` into `line`, one row at a time,
 /// handing each finished row (with its index) to `sink`; see the module
 /// docs. Returns the counters; `stats.cancelled` if the sink broke off.
-pub fn render<const O: usize, const L: usize, P: Pixel>(
-    scene: &Scene<'_, O, L>,
+pub fn render<const O: usize, const L: usize, const G: usize, P: Pixel>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [P],
@@ -503,8 +497,8 @@ pub fn render<const O: usize, const L: usize, P: Pixel>(
 /// ([`ColumnHint::new`]) or left by the previous band of the same frame
 /// (rows just below, with [`RowOrder::BottomUp`]). The image is
 /// [`render`]'s, byte for byte.
-pub fn render_coherent<const O: usize, const L: usize, P: Pixel>(
-    scene: &Scene<'_, O, L>,
+pub fn render_coherent<const O: usize, const L: usize, const G: usize, P: Pixel>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [P],
@@ -514,8 +508,8 @@ pub fn render_coherent<const O: usize, const L: usize, P: Pixel>(
     render_with(scene, fields, settings, line, Some(hints), sink)
 }
 
-fn render_with<const O: usize, const L: usize, P: Pixel>(
-    scene: &Scene<'_, O, L>,
+fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [P],
@@ -547,8 +541,8 @@ fn render_with<const O: usize, const L: usize, P: Pixel>(
 /// The depth AOV: like [`render`], but each pixel is the distance along
 /// the pixel-centre camera ray (unit direction) to the first hit, or
 /// `f32::INFINITY`. `aa` is validated but not used.
-pub fn render_depth<const O: usize, const L: usize>(
-    scene: &Scene<'_, O, L>,
+pub fn render_depth<const O: usize, const L: usize, const G: usize>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [f32],
@@ -560,8 +554,8 @@ pub fn render_depth<const O: usize, const L: usize>(
 /// [`render_depth`] with column coherence, as [`render_coherent`] (the
 /// hints needed are counted with `aa` as set, though only the pixel
 /// centres are traced).
-pub fn render_depth_coherent<const O: usize, const L: usize>(
-    scene: &Scene<'_, O, L>,
+pub fn render_depth_coherent<const O: usize, const L: usize, const G: usize>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [f32],
@@ -571,8 +565,8 @@ pub fn render_depth_coherent<const O: usize, const L: usize>(
     render_depth_with(scene, fields, settings, line, Some(hints), sink)
 }
 
-fn render_depth_with<const O: usize, const L: usize>(
-    scene: &Scene<'_, O, L>,
+fn render_depth_with<const O: usize, const L: usize, const G: usize>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
     line: &mut [f32],

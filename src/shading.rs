@@ -8,10 +8,12 @@
 //! for a single-layer texture with a plain pigment, point lights and the
 //! default interior (`ior 1`):
 //!
-//! - `C` is the pigment colour (or, for a height field with
-//!   `palette_colors`, the mean of the hit triangle's three vertex palette
-//!   colours, keeping the pigment's filter and transmit); `f`, `t` are its
-//!   filter and transmit; `att = 1 − f − t` (POV-Ray 3.7's opacity).
+//! - `C` is the pigment colour (or, for a height field with a palette,
+//!   the mean of the hit triangle's three vertex palette
+//!   colours, keeping the pigment's filter and transmit; for a `gradient`
+//!   pigment, its `color_map` at the hit point, filter and transmit
+//!   included); `f`, `t` are its filter and transmit; `att = 1 − f − t`
+//!   (POV-Ray 3.7's opacity).
 //! - ambient: `C · finish.ambient · global ambient_light · att`.
 //! - for each light whose direction `L` satisfies `N·L > 0` (`N`: shading
 //!   normal flipped to face the viewer; no back lighting) and which a
@@ -81,10 +83,9 @@ use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField};
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::render::{FieldMismatch, RenderError, Stats, MAX_AA};
-use crate::scene::{Finish, Light, Pigment, Scene, Shape};
+use crate::render::{RenderError, Stats, MAX_AA};
+use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
-use crate::transform::Transform;
 use crate::traversal::Counters;
 
 /// The largest colour magnitude a traced ray returns: `f32::MAX` over the
@@ -164,9 +165,14 @@ struct Pending {
 
 /// One scene object ready for tracing.
 #[derive(Debug, Clone, Copy)]
-struct Prepared {
+struct Prepared<'a> {
     placed: Placed,
-    pigment: Pigment,
+    pigment: &'a Pigment,
+    /// A gradient pigment's colours, borrowed from the scene's pool.
+    color_map: Option<&'a ColorMap>,
+    /// A gradient pigment's linear value in world space, `direction·p +
+    /// offset` (the object's transform folded in once, here).
+    gradient_world: (Vec3, f32),
     finish: Finish,
     /// `1 / roughness`.
     specular_exponent: f32,
@@ -184,13 +190,21 @@ struct Prepared {
 /// borrows the scene's lights and the caller's height fields.
 #[derive(Debug, Clone)]
 pub struct Tracer<'a, const OBJECTS: usize> {
-    objects: Vec<Prepared, OBJECTS>,
+    objects: Vec<Prepared<'a>, OBJECTS>,
     fields: &'a [HeightField<'a>],
     lights: &'a [Light],
     background: Vec3,
     ambient_light: Vec3,
     max_trace_level: u32,
     any_transparent: bool,
+}
+
+/// A pigment evaluated at a point.
+#[derive(Debug, Clone, Copy)]
+struct Paint {
+    color: Vec3,
+    filter: f32,
+    transmit: f32,
 }
 
 /// Everything known about the nearest hit of a ray.
@@ -204,19 +218,19 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     pub const SIZE: usize = core::mem::size_of::<Self>();
 
     /// Prepares `scene` with the caller's height fields (`fields[i]` for
-    /// `field_index` `i`, each already carrying its object's transform,
-    /// water level and palette).
+    /// `field_index` `i`). Each field is placed, flooded and coloured as it
+    /// says: its transform (a height-field object's own is not used, for
+    /// the shape nor for a gradient pigment), its water level, and its
+    /// palette if it has one.
     ///
     /// Errors name the object (its index in `scene.objects`): an invalid
-    /// shape, a `field_index` with no field, or a field that disagrees with
-    /// its object (a transform other than the object's, when the object's
-    /// is not the identity; a different water level; `palette_colors`
-    /// without a palette or with 16-bit samples).
-    pub fn new<const LIGHTS: usize>(
-        scene: &'a Scene<'_, OBJECTS, LIGHTS>,
+    /// shape, a `field_index` with no field, or a gradient not in the
+    /// scene.
+    pub fn new<const LIGHTS: usize, const GRADIENTS: usize>(
+        scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
         fields: &'a [HeightField<'a>],
     ) -> Result<Self, RenderError> {
-        let mut objects: Vec<Prepared, OBJECTS> = Vec::new();
+        let mut objects: Vec<Prepared<'a>, OBJECTS> = Vec::new();
         let mut any_transparent = false;
         for (index, object) in scene.objects.iter().enumerate() {
             let primitive =
@@ -228,10 +242,10 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let mut palette = false;
             let mut field_up = Vec3::Y;
             let mut field_index = 0;
+            // Where the object is: a height field's own transform places it.
+            let mut placement = &object.transform;
             if let Shape::HeightField {
                 smooth: s,
-                water_level,
-                palette_colors,
                 field_index: fi,
                 ..
             } = object.shape
@@ -241,32 +255,32 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                     field_index: fi,
                     fields: fields.len(),
                 })?;
-                let mismatch = |what| RenderError::FieldMismatch {
-                    object: index,
-                    field_index: fi,
-                    what,
-                };
-                if object.transform != Transform::IDENTITY && object.transform != *field.transform()
-                {
-                    return Err(mismatch(FieldMismatch::Transform));
-                }
-                if water_level != field.water_level() {
-                    return Err(mismatch(FieldMismatch::WaterLevel));
-                }
-                if palette_colors
-                    && (field.palette().is_none()
-                        || !matches!(field.samples(), crate::heightfield::Samples::U8(_)))
-                {
-                    return Err(mismatch(FieldMismatch::Palette));
-                }
                 smooth = s;
-                palette = palette_colors;
+                palette = field.palette().is_some();
                 field_index = fi;
-                field_up = field.transform().to_world().matrix3.y_axis.as_vec3();
+                placement = field.transform();
+                field_up = placement.to_world().matrix3.y_axis.as_vec3();
             }
-            let pigment = object.pigment;
+            let pigment = &object.pigment;
             let finish = object.finish;
-            let opaque = pigment.filter == 0.0 && pigment.transmit == 0.0;
+            let gradient = match pigment.gradient {
+                Some(i) => Some(scene.gradients.get(usize::from(i)).ok_or(
+                    RenderError::MissingGradient {
+                        object: index,
+                        gradient: i,
+                        gradients: scene.gradients.len(),
+                    },
+                )?),
+                None => None,
+            };
+            let opaque = match gradient {
+                Some(g) => g.color_map.is_opaque(),
+                None => pigment.filter == 0.0 && pigment.transmit == 0.0,
+            };
+            let gradient_world = gradient.map_or((Vec3::ZERO, 0.0), |g| {
+                let world = g.transformed(placement);
+                (world.direction, world.offset)
+            });
             let reflective = finish.reflection.max_element() > 0.0;
             if !cfg!(feature = "secondary-rays") && (reflective || !opaque) {
                 return Err(RenderError::NotBuilt { object: index });
@@ -275,6 +289,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let prepared = Prepared {
                 placed: Placed::new(primitive, &object.transform),
                 pigment,
+                color_map: gradient.map(|g| &g.color_map),
+                gradient_world,
                 finish,
                 specular_exponent: 1.0 / finish.roughness,
                 opaque,
@@ -522,9 +538,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             geometric
         };
 
-        let colour = self.surface_colour(obj, hit);
-        let f = obj.pigment.filter;
-        let t = obj.pigment.transmit;
+        let Paint {
+            color: colour,
+            filter: f,
+            transmit: t,
+        } = self.surface_colour(obj, hit);
         let att = 1.0 - f - t;
         let finish = &obj.finish;
 
@@ -580,9 +598,28 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         local
     }
 
-    /// Pigment colour at a hit (palette colouring for height fields).
+    /// Pigment colour, filter and transmit at a hit (a gradient's colour
+    /// map at the point; palette colouring for height fields).
     #[inline]
-    fn surface_colour(&self, obj: &Prepared, hit: &WorldHit) -> Vec3 {
+    fn surface_colour(&self, obj: &Prepared, hit: &WorldHit) -> Paint {
+        let pigment = obj.pigment;
+        let mut paint = match obj.color_map {
+            Some(map) => {
+                let (direction, offset) = obj.gradient_world;
+                let value = Gradient::wave(direction.dot(hit.point) + offset);
+                let entry = map.at(value);
+                Paint {
+                    color: entry.color,
+                    filter: entry.filter,
+                    transmit: entry.transmit,
+                }
+            }
+            None => Paint {
+                color: pigment.color,
+                filter: pigment.filter,
+                transmit: pigment.transmit,
+            },
+        };
         if obj.palette {
             if let Some(fh) = &hit.field {
                 if let Some(c) = self.fields[obj.field_index].triangle_palette_color(
@@ -590,11 +627,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                     fh.cell_z,
                     fh.triangle,
                 ) {
-                    return c;
+                    paint.color = c;
                 }
             }
         }
-        obj.pigment.color
+        paint
     }
 
     /// Diffuse, phong and specular from one light.
@@ -700,8 +737,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 };
                 crossings += 1;
                 filtered = true;
-                let sc = self.surface_colour(o, &h);
-                c *= sc * o.pigment.filter + Vec3::splat(o.pigment.transmit);
+                let paint = self.surface_colour(o, &h);
+                c *= paint.color * paint.filter + Vec3::splat(paint.transmit);
                 if c.abs().max_element() < 1e-10 {
                     stats.shadow_hits += 1;
                     return Vec3::ZERO;

@@ -55,8 +55,9 @@ impl SkipLayout {
     /// field's longer side. Coarser blocks, each a quarter of the field or
     /// more, are almost never culled (2.8% of the tests at that level in
     /// the benchmark render) and only cost a test per ray.
-    pub fn pyramid(width: u32, depth: u32, block_log2: u8) -> Self {
-        let cells = width.max(depth).saturating_sub(1).max(1);
+    pub const fn pyramid(width: u32, depth: u32, block_log2: u8) -> Self {
+        let longer = if width > depth { width } else { depth };
+        let cells = if longer > 1 { longer - 1 } else { 1 };
         let mut levels = 1u8;
         while levels < MAX_LEVELS {
             let shift = block_log2 as u32 * (levels as u32 + 1);
@@ -68,8 +69,9 @@ impl SkipLayout {
         SkipLayout { block_log2, levels }
     }
 
-    fn check(&self) -> Result<(), SkipError> {
-        if !(1..=8).contains(&self.block_log2) || !(1..=MAX_LEVELS).contains(&self.levels) {
+    const fn check(&self) -> Result<(), SkipError> {
+        let block_ok = self.block_log2 >= 1 && self.block_log2 <= 8;
+        if !block_ok || self.levels < 1 || self.levels > MAX_LEVELS {
             return Err(SkipError::Layout {
                 block_log2: self.block_log2,
                 levels: self.levels,
@@ -153,6 +155,8 @@ impl core::fmt::Display for SkipError {
     }
 }
 
+impl core::error::Error for SkipError {}
+
 /// A borrowed min/max pyramid over one height field's samples.
 #[derive(Debug, Clone, Copy)]
 pub struct SkipGrid<'a> {
@@ -179,15 +183,16 @@ pub(crate) fn level_recip(log2: u32) -> u32 {
     256u32.div_ceil(log2.max(1))
 }
 
-fn div_ceil_shift(n: u32, shift: u32) -> u32 {
+const fn div_ceil_shift(n: u32, shift: u32) -> u32 {
     if shift >= 32 {
         return 1;
     }
     ((n as u64 + (1u64 << shift) - 1) >> shift) as u32
 }
 
-/// Per-level sizes: (offsets, blocks per row, total bytes).
-fn plan(
+/// Per-level sizes: (offsets, blocks per row, total bytes). `const` so
+/// that [`SkipGrid::bytes_needed`] can size a `static` or stack buffer.
+const fn plan(
     width: u32,
     depth: u32,
     sample_bytes: u8,
@@ -200,13 +205,16 @@ fn plan(
     ),
     SkipError,
 > {
-    layout.check()?;
-    let cells_u = width.saturating_sub(1).max(1);
-    let cells_v = depth.saturating_sub(1).max(1);
+    if let Err(e) = layout.check() {
+        return Err(e);
+    }
+    let cells_u = if width > 1 { width - 1 } else { 1 };
+    let cells_v = if depth > 1 { depth - 1 } else { 1 };
     let mut offsets = [0u32; MAX_LEVELS as usize];
     let mut blocks_u = [0u32; MAX_LEVELS as usize];
     let mut total = HEADER_BYTES as u64;
-    for l in 0..layout.levels as usize {
+    let mut l = 0;
+    while l < layout.levels as usize {
         let shift = layout.block_log2 as u32 * (l as u32 + 1);
         let bu = div_ceil_shift(cells_u, shift);
         let bv = div_ceil_shift(cells_v, shift);
@@ -219,6 +227,7 @@ fn plan(
                 levels: layout.levels,
             });
         }
+        l += 1;
     }
     Ok((offsets, blocks_u, total as usize))
 }
@@ -233,14 +242,30 @@ fn sample_bytes(field: &HeightField<'_>) -> u8 {
 impl<'a> SkipGrid<'a> {
     /// Bytes a skip grid of `layout` over a `width × depth` field of
     /// `sample_bytes`-byte samples (1 or 2) needs, header included.
-    pub fn bytes_needed(
+    ///
+    /// A `const fn`, so a firmware declares its buffer from the layout:
+    ///
+    /// ```
+    /// use hfray::{SkipGrid, SkipLayout};
+    /// const LAYOUT: SkipLayout = SkipLayout::pyramid(87, 61, 2);
+    /// const SKIP_BYTES: usize = match SkipGrid::bytes_needed(87, 61, 1, LAYOUT) {
+    ///     Ok(bytes) => bytes,
+    ///     Err(_) => panic!("invalid skip layout"),
+    /// };
+    /// let skip = [0u8; SKIP_BYTES]; // on the stack, or a `static`
+    /// assert_eq!(skip.len(), 724);
+    /// ```
+    pub const fn bytes_needed(
         width: u32,
         depth: u32,
         sample_bytes: u8,
         layout: SkipLayout,
     ) -> Result<usize, SkipError> {
         let sb = if sample_bytes >= 2 { 2 } else { 1 };
-        plan(width, depth, sb, layout).map(|p| p.2)
+        match plan(width, depth, sb, layout) {
+            Ok((_, _, total)) => Ok(total),
+            Err(e) => Err(e),
+        }
     }
 
     /// [`bytes_needed`](Self::bytes_needed) for `field`.
@@ -254,6 +279,26 @@ impl<'a> SkipGrid<'a> {
     /// Builds the pyramid of `field` into `buffer`, which must be exactly
     /// [`bytes_needed_for`](Self::bytes_needed_for) bytes long. Reads every
     /// sample about once (level 1), then combines levels; no allocation.
+    ///
+    /// The grid borrows `buffer` for as long as it lives, and since it was
+    /// lent as `&mut`, the buffer stays exclusively borrowed that long (a
+    /// shared borrow made from a `&mut` keeps it so; no signature avoids
+    /// that in safe Rust). To read the bytes too (to store them, or to
+    /// share them between threads), drop this grid and borrow them again
+    /// with [`from_precomputed`](Self::from_precomputed):
+    ///
+    /// ```
+    /// # use hfray::{HeightConvention, HeightField, Samples, SkipGrid, SkipLayout};
+    /// # let samples = [0u8; 9];
+    /// # let field = HeightField::new(Samples::U8(&samples), 3, 3, HeightConvention::Gray8)?;
+    /// let layout = SkipLayout::blocks(1);
+    /// let mut buffer = vec![0u8; SkipGrid::bytes_needed_for(&field, layout)?];
+    /// SkipGrid::build(&field, layout, &mut buffer)?;
+    /// let grid = SkipGrid::from_precomputed(&buffer, &field)?; // shared
+    /// let field = field.with_skip(grid)?;
+    /// std::fs::write(std::env::temp_dir().join("field.hfsk"), &buffer)?; // still readable
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn build(
         field: &HeightField<'_>,
         layout: SkipLayout,

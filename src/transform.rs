@@ -11,20 +11,28 @@ use glam::{Affine3A, DAffine3, DMat3, DVec3, Mat3, Vec3};
 /// Why a transform was rejected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TransformError {
-    /// A component was NaN or infinite.
+    /// A component was NaN or infinite, or the matrix's determinant
+    /// overflows `f64` (scale factors multiplying past about 1e100).
     NotFinite,
-    /// A scale factor was zero, or the composed matrix is singular.
+    /// A scale factor was zero, or the matrix has no (finite) inverse.
     Singular,
 }
 
 impl core::fmt::Display for TransformError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            TransformError::NotFinite => f.write_str("transform component is NaN or infinite"),
-            TransformError::Singular => f.write_str("transform is singular (a scale of zero?)"),
+            TransformError::NotFinite => f.write_str(
+                "transform is not finite: a component is NaN or infinite, or the scale factors \
+                 multiply past f64's range",
+            ),
+            TransformError::Singular => {
+                f.write_str("transform is singular: a scale of zero, or a matrix with no inverse")
+            }
         }
     }
 }
+
+impl core::error::Error for TransformError {}
 
 /// An affine object-to-world transform and its inverse, both in `f64`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -60,7 +68,10 @@ impl Transform {
             return Err(TransformError::NotFinite);
         }
         let det = to_world.matrix3.determinant();
-        if det == 0.0 || !det.is_finite() {
+        if !det.is_finite() {
+            return Err(TransformError::NotFinite);
+        }
+        if det == 0.0 {
             return Err(TransformError::Singular);
         }
         let to_object = to_world.inverse();
@@ -93,6 +104,25 @@ impl Transform {
     pub fn translate(v: DVec3) -> Result<Self, TransformError> {
         let v = finite(v)?;
         Self::from_affine(DAffine3::from_translation(v))
+    }
+
+    /// A chain of `scale`, `rotate` and `translate` steps in written order,
+    /// checked once by [`TransformBuilder::build`]:
+    ///
+    /// ```
+    /// use hfray::glam::DVec3;
+    /// use hfray::Transform;
+    /// let place = Transform::builder()
+    ///     .scale(DVec3::new(2.0, 0.6, 2.0))
+    ///     .translate(DVec3::new(-1.0, 0.0, -1.0))
+    ///     .build()?;
+    /// assert_eq!(place.to_world().transform_point3(DVec3::ONE), DVec3::new(1.0, 0.6, 1.0));
+    /// # Ok::<(), hfray::transform::TransformError>(())
+    /// ```
+    pub const fn builder() -> TransformBuilder {
+        TransformBuilder {
+            so_far: Ok(Transform::IDENTITY),
+        }
     }
 
     /// This transform followed by `next` (POV-Ray order: as written).
@@ -129,6 +159,58 @@ impl Transform {
     pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
         let m = self.to_object.matrix3.transpose();
         (m * n.as_dvec3()).normalize_or_zero().as_vec3()
+    }
+}
+
+/// Steps of a [`Transform`] in written order ([`Transform::builder`]); the
+/// first invalid step (a zero scale, a NaN) is what [`build`](Self::build)
+/// reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[must_use = "a builder does nothing until `build` is called"]
+pub struct TransformBuilder {
+    so_far: Result<Transform, TransformError>,
+}
+
+impl TransformBuilder {
+    fn step(self, next: Result<Transform, TransformError>) -> Self {
+        TransformBuilder {
+            so_far: self.so_far.and_then(|t| Ok(t.then(&next?))),
+        }
+    }
+
+    /// Then `scale <x, y, z>` ([`Transform::scale`]).
+    pub fn scale(self, v: DVec3) -> Self {
+        self.step(Transform::scale(v))
+    }
+
+    /// Then `rotate <x, y, z>` in degrees ([`Transform::rotate_degrees`]).
+    pub fn rotate_degrees(self, v: DVec3) -> Self {
+        self.step(Transform::rotate_degrees(v))
+    }
+
+    /// Then `translate <x, y, z>` ([`Transform::translate`]).
+    pub fn translate(self, v: DVec3) -> Self {
+        self.step(Transform::translate(v))
+    }
+
+    /// Then `next`.
+    pub fn then(self, next: &Transform) -> Self {
+        self.step(Ok(*next))
+    }
+
+    /// The composed transform, or the first step's error; also an error
+    /// when the steps, each valid, compose to a matrix that overflows or is
+    /// singular (`scale 1e200` twice).
+    pub fn build(self) -> Result<Transform, TransformError> {
+        let t = self.so_far?;
+        let det = t.to_world.matrix3.determinant();
+        if !(t.to_world.is_finite() && det.is_finite()) {
+            return Err(TransformError::NotFinite);
+        }
+        if det == 0.0 || !t.to_object.is_finite() {
+            return Err(TransformError::Singular);
+        }
+        Ok(t)
     }
 }
 
@@ -247,6 +329,35 @@ mod tests {
         assert_eq!(p, DVec3::new(3.0, 2.0, 2.0));
         let back = s.then(&t).to_object().transform_point3(p);
         assert!((back - DVec3::ONE).length() < 1e-12);
+    }
+
+    #[test]
+    fn builder_composes_in_written_order_like_then() {
+        let s = Transform::scale(DVec3::splat(2.0)).unwrap();
+        let r = Transform::rotate_degrees(DVec3::new(0.0, 90.0, 0.0)).unwrap();
+        let t = Transform::translate(DVec3::new(1.0, 0.0, 0.0)).unwrap();
+        let built = Transform::builder()
+            .scale(DVec3::splat(2.0))
+            .rotate_degrees(DVec3::new(0.0, 90.0, 0.0))
+            .then(&t)
+            .build()
+            .unwrap();
+        assert_eq!(built, s.then(&r).then(&t));
+    }
+
+    #[test]
+    fn builder_reports_the_first_bad_step_and_a_degenerate_composition() {
+        let zero_then_nan = Transform::builder()
+            .translate(DVec3::X)
+            .scale(DVec3::new(1.0, 0.0, 1.0))
+            .translate(DVec3::splat(f64::NAN))
+            .build();
+        assert_eq!(zero_then_nan, Err(TransformError::Singular));
+        let overflow = Transform::builder()
+            .scale(DVec3::splat(1e100))
+            .scale(DVec3::splat(1e100))
+            .build();
+        assert_eq!(overflow, Err(TransformError::NotFinite));
     }
 
     #[test]

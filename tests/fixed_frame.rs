@@ -196,10 +196,8 @@ fn far_camera_is_refused_with_range() {
 
 #[test]
 fn palette_coloured_field_is_within_the_error_targets() {
-    let mut model = scene::build_scene(scene::Variant::Base).unwrap();
-    if let Shape::HeightField { palette_colors, .. } = &mut model.objects[0].shape {
-        *palette_colors = true;
-    }
+    // Palette colours are the field's: the object only names it.
+    let model = scene::build_scene(scene::Variant::Base).unwrap();
     // Green lowlands to white summits.
     let palette: [[u8; 3]; 256] =
         core::array::from_fn(|i| [i as u8, (96 + i / 2) as u8, (255 - i) as u8 / 2]);
@@ -211,7 +209,8 @@ fn palette_coloured_field_is_within_the_error_targets() {
         scene::Pyramid::Build(&mut skip),
     )
     .unwrap()
-    .with_palette(&palette)];
+    .with_palette(&palette)
+    .unwrap()];
     let mut frames = [Vec::new(), Vec::new()];
     for (frame, out) in [scene::Frame::Float, scene::Frame::Fixed]
         .into_iter()

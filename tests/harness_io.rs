@@ -17,7 +17,7 @@ use harness::images::{
 use harness::pfm::{self, PfmWriter};
 use harness::png_out::PngWriter;
 use harness::tga::{self, TgaWriter};
-use hfray::scene::ImageFormat;
+use hfray::scene::{ImageFormat, ParseOptions};
 use hfray::HeightConvention;
 
 #[global_allocator]
@@ -1531,7 +1531,7 @@ fn sixty_four_fields_naming_one_image_share_one_decode() {
     let path = scene_of_fields(&dir, &["hill.pgm"], 64);
     let text = fs::read_to_string(&path).unwrap();
     let (scene, source) =
-        parse_file_scene_located(&path, &text, &Default::default(), &mut |_| {}).unwrap();
+        parse_file_scene_located(&path, &text, &ParseOptions::new(320, 200), &mut |_| {}).unwrap();
     let mut budget = images::DecodeBudget::default();
     let fields = load_fields_within(&scene, &source, &mut budget).unwrap();
     assert_eq!(fields.len(), 64);
@@ -1552,7 +1552,7 @@ fn memory_budget_is_shared_across_fields() {
     let path = scene_of_fields(&dir, &["a.pgm", "b.pgm"], 2);
     let text = fs::read_to_string(&path).unwrap();
     let (scene, source) =
-        parse_file_scene_located(&path, &text, &Default::default(), &mut |_| {}).unwrap();
+        parse_file_scene_located(&path, &text, &ParseOptions::new(320, 200), &mut |_| {}).unwrap();
     let mut budget = images::DecodeBudget::new(3 << 19);
     let e = load_fields_within(&scene, &source, &mut budget).unwrap_err();
     assert!(

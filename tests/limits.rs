@@ -258,7 +258,7 @@ fn max_trace_level_beyond_the_cap_is_bounded_by_max_segments() {
 // --- scene files -----------------------------------------------------------------
 
 fn parse_err(src: &str) -> String {
-    match parse_scene::<8, 4>(src, &ParseOptions::default(), &mut |_| {}) {
+    match parse_scene::<8, 4, 4>(src, &ParseOptions::new(320, 240), &mut |_| {}) {
         Ok(_) => panic!("expected an error for {src:?}"),
         Err(e) => e.to_string(),
     }
@@ -270,9 +270,9 @@ fn max_trace_level_over_256_is_an_error() {
         parse_err("global_settings { max_trace_level 257 }"),
         "1:35: max_trace_level must be in [1, 256], found 257"
     );
-    let s = parse_scene::<8, 4>(
+    let s = parse_scene::<8, 4, 4>(
         "global_settings { max_trace_level 256 }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap();
@@ -285,7 +285,7 @@ fn max_trace_level_over_256_is_an_error() {
 #[test]
 fn include_depth_is_one_colors_inc_only() {
     let twice = "#include \"colors.inc\"\n#include \"colors.inc\"\nbackground { Red }";
-    let s = parse_scene::<8, 4>(twice, &ParseOptions::default(), &mut |_| {}).unwrap();
+    let s = parse_scene::<8, 4, 4>(twice, &ParseOptions::new(320, 240), &mut |_| {}).unwrap();
     assert_eq!(s.background, Vec3::X);
     assert_eq!(
         parse_err("#include \"my.inc\""),
@@ -300,7 +300,7 @@ fn expression_nesting_at_and_past_max_depth() {
     use hfray::scene::MAX_DEPTH;
     let nested = |n: usize| format!("sphere {{ 0, {}1{} }}", "(".repeat(n), ")".repeat(n));
     let ok = nested(MAX_DEPTH);
-    assert!(parse_scene::<8, 4>(&ok, &ParseOptions::default(), &mut |_| {}).is_ok());
+    assert!(parse_scene::<8, 4, 4>(&ok, &ParseOptions::new(320, 240), &mut |_| {}).is_ok());
     assert!(parse_err(&nested(MAX_DEPTH + 1)).contains("nesting too deep (limit 64 levels)"));
     // Far past it: still an error, not a stack overflow.
     assert!(parse_err(&nested(100_000)).contains("nesting too deep"));

@@ -35,11 +35,7 @@ sphere { <0.3, 0.25, 0.1>, 0.12 pigment { color rgbt <1, 1, 1, 0.7> } finish { r
 #[test]
 fn full_render_performs_zero_allocations() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/memory_test.pov");
-    let options = ParseOptions {
-        image_width: 160,
-        image_height: 100,
-        ..ParseOptions::default()
-    };
+    let options = ParseOptions::new(160, 100);
     let scene = parse_file_scene(&path, SCENE, &options, &mut |w| panic!("{w}")).unwrap();
     let loaded = load_fields(&scene, &path).unwrap();
     let fields = build_fields(&scene, &loaded).unwrap();

@@ -10,11 +10,7 @@ use hfray::{render, LinearRgb, RenderSettings};
 /// Renders `src` (no height fields) at `width × height` with `aa`, in
 /// linear colour.
 fn render_text(src: &str, width: u32, height: u32, aa: u32) -> Vec<LinearRgb> {
-    let options = ParseOptions {
-        image_width: width,
-        image_height: height,
-        ..ParseOptions::default()
-    };
+    let options = ParseOptions::new(width, height);
     let scene: Scene<'_, 16, 4> = parse_scene(src, &options, &mut |_| {}).unwrap();
     let mut line = vec![LinearRgb::default(); width as usize];
     let mut out = Vec::new();
@@ -261,7 +257,7 @@ fn fuzz_seed_images_all_decode() {
 fn fuzz_seed_scenes_all_parse() {
     for (name, bytes) in seeds("parse_scene") {
         let text = std::str::from_utf8(&bytes).unwrap();
-        if let Err(e) = parse_scene::<32, 8>(text, &ParseOptions::default(), &mut |_| {}) {
+        if let Err(e) = parse_scene::<32, 8, 4>(text, &ParseOptions::new(320, 240), &mut |_| {}) {
             panic!("{name}: {e}");
         }
     }
@@ -273,11 +269,11 @@ fn fuzz_seed_scenes_all_parse() {
 fn fuzz_seed_renders_are_finite() {
     for (name, bytes) in seeds("render_scene") {
         let text = std::str::from_utf8(&bytes[8..]).unwrap();
-        let options = ParseOptions::default();
-        let Ok(scene) = parse_scene::<16, 4>(text, &options, &mut |_| {}) else {
+        let options = ParseOptions::new(320, 240);
+        let Ok(scene) = parse_scene::<16, 4, 4>(text, &options, &mut |_| {}) else {
             panic!("{name}: does not parse");
         };
-        if scene.height_fields().next().is_some() {
+        if scene.height_field_sources().next().is_some() {
             continue; // needs image files; the fuzz target synthesises them
         }
         let (w, h, aa) = (
@@ -332,7 +328,8 @@ fn accessors_outside_the_grid_answer_none_not_a_panic() {
     let palette = [[7u8; 3]; 256];
     let field = HeightField::new(Samples::U8(&data), 3, 2, HeightConvention::Indexed)
         .unwrap()
-        .with_palette(&palette);
+        .with_palette(&palette)
+        .unwrap();
     // Vertices: 3 × 2; grid row 0 is image row 1.
     assert_eq!(field.height(0, 0), Some(40.0 / 256.0));
     assert_eq!(field.height(2, 1), Some(30.0 / 256.0));
@@ -362,24 +359,24 @@ fn accessors_outside_the_grid_answer_none_not_a_panic() {
 
 #[test]
 fn utf8_byte_order_mark_at_the_start_of_a_scene_was_rejected() {
-    let options = ParseOptions::default();
+    let options = ParseOptions::new(320, 240);
     let plain = "background { color rgb <0.1, 0.2, 0.3> }\nfoo";
     let with_bom = format!("\u{feff}{plain}");
-    let e = parse_scene::<4, 1>(&with_bom, &options, &mut |_| {}).unwrap_err();
+    let e = parse_scene::<4, 1, 0>(&with_bom, &options, &mut |_| {}).unwrap_err();
     // Parsed past the mark, and positions are as without it.
-    let e_plain = parse_scene::<4, 1>(plain, &options, &mut |_| {}).unwrap_err();
+    let e_plain = parse_scene::<4, 1, 0>(plain, &options, &mut |_| {}).unwrap_err();
     assert_eq!(e.to_string(), e_plain.to_string());
     assert_eq!(e.to_string(), "2:1: unknown top-level item `foo`: expected camera, light_source, background, global_settings, height_field, plane, sphere, box, cylinder, cone, triangle or a directive");
     // Only at the start: elsewhere it is a stray character.
     let inner = "background { color rgb 0 }\n\u{feff}";
-    assert!(parse_scene::<4, 1>(inner, &options, &mut |_| {}).is_err());
+    assert!(parse_scene::<4, 1, 0>(inner, &options, &mut |_| {}).is_err());
 }
 
 #[test]
 fn ten_megabyte_identifier_made_a_ten_megabyte_error() {
-    let options = ParseOptions::default();
+    let options = ParseOptions::new(320, 240);
     let text = "q".repeat(10 << 20);
-    let e = parse_scene::<4, 1>(&text, &options, &mut |_| {}).unwrap_err();
+    let e = parse_scene::<4, 1, 0>(&text, &options, &mut |_| {}).unwrap_err();
     let shown = e.to_string();
     assert!(shown.len() < 400, "{} bytes", shown.len());
     assert!(shown.contains(&format!("`{}…`", "q".repeat(80))), "{shown}");
@@ -387,9 +384,9 @@ fn ten_megabyte_identifier_made_a_ten_megabyte_error() {
 
 #[test]
 fn control_characters_in_a_file_name_reached_the_terminal() {
-    let options = ParseOptions::default();
+    let options = ParseOptions::new(320, 240);
     let text = "height_field { \"a\u{1b}]0;pwned\u{7}b\0.xyz\" }";
-    let e = parse_scene::<4, 1>(text, &options, &mut |_| {}).unwrap_err();
+    let e = parse_scene::<4, 1, 0>(text, &options, &mut |_| {}).unwrap_err();
     let shown = e.to_string();
     assert!(!shown.chars().any(char::is_control), "{shown:?}");
     assert!(shown.contains("a\\u{1b}]0;pwned\\u{7}b\\0.xyz"), "{shown}");
@@ -404,7 +401,7 @@ fn objects_found_bad_after_parsing_had_no_position() {
     let mut at = Vec::new();
     let scene: Scene<'_, 4, 1> = hfray::scene::parse_scene_located(
         text,
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
         &mut |i, pos| at.push((i, pos.line, pos.col)),
     )

@@ -122,11 +122,8 @@ fn height_field_seen_from_above_is_unmirrored() {
     let field = HeightField::new(Samples::U8(&samples), 4, 4, HeightConvention::Indexed).unwrap();
     let hf = object(
         Shape::HeightField {
-            format: hfray::scene::ImageFormat::Gif,
-            path: "peak.gif",
+            source: None,
             smooth: false,
-            water_level: 0.0,
-            palette_colors: false,
             field_index: 0,
         },
         Vec3::ONE,

@@ -14,7 +14,7 @@ use std::ops::ControlFlow;
 
 use common::{terrain, Rng};
 use hfray::glam::{DVec3, Vec3};
-use hfray::scene::{CameraDesc, Finish, ImageFormat, Object, Pigment, Projection, Shape};
+use hfray::scene::{CameraDesc, Finish, Object, Pigment, Projection, Shape};
 use hfray::{
     render, render_coherent, render_depth, render_depth_coherent, ColumnHint, HeightConvention,
     HeightField, RenderError, RenderSettings, Rgb888, RowOrder, Samples, SkipGrid, SkipLayout,
@@ -26,17 +26,16 @@ const SIDE: u32 = 97;
 const W: u32 = 48;
 const H: u32 = 30;
 
-fn field_object(water_level: f32, transform: Transform) -> Object<'static> {
+/// The terrain object: `fields[0]`, which carries its placement and water
+/// level.
+fn field_object() -> Object<'static> {
     Object {
         shape: Shape::HeightField {
-            format: ImageFormat::Pgm,
-            path: "terrain.pgm",
+            source: None,
             smooth: true,
-            water_level,
-            palette_colors: false,
             field_index: 0,
         },
-        transform,
+        transform: Transform::IDENTITY,
         pigment: Pigment {
             color: Vec3::new(0.5, 0.45, 0.3),
             ..Pigment::default()
@@ -134,10 +133,10 @@ fn cameras(data: &Fields) -> Vec<(&'static str, CameraDesc, bool)> {
     ]
 }
 
-fn test_scene(camera: CameraDesc, water_level: f32) -> TestScene {
+fn test_scene(camera: CameraDesc) -> TestScene {
     let mut s = scene(
         camera,
-        &[field_object(water_level, transform())],
+        &[field_object()],
         &[light(Vec3::new(-2.0, 3.0, -1.0), Vec3::ONE)],
     );
     s.background = Vec3::new(0.5, 0.7, 0.9);
@@ -281,7 +280,7 @@ const MODES: [Traversal; 3] = [Traversal::Flat, Traversal::Blocks, Traversal::Hi
 fn coherent_renders_match_the_plain_renderer_on_every_camera_and_mode() {
     let data = Fields::new(7);
     for (name, camera, resumes) in cameras(&data) {
-        let s = test_scene(camera, 0.0);
+        let s = test_scene(camera);
         let reference = plain_colour(&s, &[data.field(0.0, Traversal::Flat)], 1);
         for mode in MODES {
             let fields = [data.field(0.0, mode)];
@@ -312,7 +311,7 @@ fn coherent_renders_match_the_plain_renderer_on_every_camera_and_mode() {
 #[test]
 fn level_camera_resumes_most_rays_bottom_up() {
     let data = Fields::new(11);
-    let s = test_scene(level(Vec3::new(0.2, 0.16, 0.1), (0.8, 0.9)), 0.0);
+    let s = test_scene(level(Vec3::new(0.2, 0.16, 0.1), (0.8, 0.9)));
     let fields = [data.field(0.0, Traversal::Hierarchy)];
     let (_, stats) = coherent_colour(&s, &fields, 1, RowOrder::BottomUp, 1);
     // Every ray but the bottom row's starts above the surface and sees the
@@ -329,7 +328,7 @@ fn level_camera_resumes_most_rays_bottom_up() {
 fn coherent_depth_aov_matches_bit_for_bit() {
     let data = Fields::new(3);
     for (name, camera, resumes) in cameras(&data) {
-        let s = test_scene(camera, 0.0);
+        let s = test_scene(camera);
         for mode in MODES {
             let fields = [data.field(0.0, mode)];
             let (reference, _) = depth_bits(&s, &fields, None);
@@ -344,7 +343,7 @@ fn coherent_depth_aov_matches_bit_for_bit() {
 fn coherent_renders_with_supersampling_match() {
     let data = Fields::new(5);
     let (name, camera, _) = cameras(&data).remove(0);
-    let s = test_scene(camera, 0.0);
+    let s = test_scene(camera);
     let fields = [data.field(0.0, Traversal::Hierarchy)];
     let reference = plain_colour(&s, &fields, 2);
     let (img, stats) = coherent_colour(&s, &fields, 2, RowOrder::BottomUp, 3);
@@ -356,7 +355,7 @@ fn coherent_renders_with_supersampling_match() {
 fn water_level_above_the_lowest_sample_matches_without_resuming() {
     let data = Fields::new(9);
     for (name, camera, _) in cameras(&data) {
-        let s = test_scene(camera, 0.4);
+        let s = test_scene(camera);
         let fields = [data.field(0.4, Traversal::Hierarchy)];
         let reference = plain_colour(&s, &fields, 1);
         let (img, stats) = coherent_colour(&s, &fields, 1, RowOrder::BottomUp, 2);
@@ -368,7 +367,7 @@ fn water_level_above_the_lowest_sample_matches_without_resuming() {
 #[test]
 fn bottom_up_hands_rows_to_the_sink_last_first() {
     let data = Fields::new(1);
-    let s = test_scene(cameras(&data).remove(0).1, 0.0);
+    let s = test_scene(cameras(&data).remove(0).1);
     let fields = [data.field(0.0, Traversal::Hierarchy)];
     let st = settings(1, RowOrder::BottomUp).with_rows(3..9);
     let mut hints = vec![ColumnHint::new(); st.column_hints_needed(1)];
@@ -392,7 +391,7 @@ fn bottom_up_hands_rows_to_the_sink_last_first() {
 #[test]
 fn too_few_column_hints_is_an_error() {
     let data = Fields::new(1);
-    let s = test_scene(cameras(&data).remove(0).1, 0.0);
+    let s = test_scene(cameras(&data).remove(0).1);
     let fields = [data.field(0.0, Traversal::Hierarchy)];
     let st = settings(2, RowOrder::BottomUp);
     let mut hints = vec![ColumnHint::new(); st.column_hints_needed(1) - 1];

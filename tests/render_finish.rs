@@ -248,6 +248,7 @@ fn filter_tints_what_is_behind_by_the_pigment() {
         color: Vec3::new(1.0, 0.5, 0.0),
         filter: 0.5,
         transmit: 0.0,
+        ..Pigment::default()
     };
     let mut s = scene(front_camera(), &[o], &[]);
     s.background = Vec3::ONE;
@@ -311,6 +312,7 @@ fn transparent_blocker_filters_the_light_at_each_surface() {
         color: Vec3::new(1.0, 0.5, 0.25),
         filter: 0.4,
         transmit: 0.2,
+        ..Pigment::default()
     };
     let (px, _) = render_linear(&shadow_scene(blocker), &[], 2, 1, 1);
     // Each crossing: C·0.4 + 0.2 = (0.6, 0.4, 0.3); two crossings.

@@ -10,21 +10,14 @@ use std::ops::ControlFlow;
 use common::*;
 use hfray::glam::{DVec3, Vec3};
 use hfray::heightfield::PaletteEntry;
-use hfray::render::FieldMismatch;
-use hfray::scene::{CameraDesc, Finish, ImageFormat, Object, Projection, Shape};
-use hfray::{
-    render, HeightConvention, HeightField, LinearRgb, RenderError, RenderSettings, Samples,
-    Transform,
-};
+use hfray::scene::{CameraDesc, Finish, Object, Projection, Shape};
+use hfray::{HeightConvention, HeightField, RenderSettings, Samples, Transform};
 
-fn field_object(index: usize, smooth: bool, palette: bool, finish: Finish) -> Object<'static> {
+fn field_object(index: usize, smooth: bool, finish: Finish) -> Object<'static> {
     object(
         Shape::HeightField {
-            format: ImageFormat::Pgm,
-            path: "test.pgm",
+            source: None,
             smooth,
-            water_level: 0.0,
-            palette_colors: palette,
             field_index: index,
         },
         Vec3::ONE,
@@ -88,7 +81,7 @@ fn flat_field_under_grazing_light_has_no_shadow_acne() {
     let field = HeightField::new(Samples::U8(&samples), 64, 64, HeightConvention::Gray8)
         .unwrap()
         .with_transform(t);
-    let mut obj = field_object(0, false, false, Finish::default());
+    let mut obj = field_object(0, false, Finish::default());
     obj.transform = t;
     let elev = 2f32.to_radians();
     let far = Vec3::new(elev.cos(), elev.sin(), 0.3).normalize() * 1000.0;
@@ -114,7 +107,7 @@ fn terraced_8_bit_ramp_rising_towards_a_low_light_is_fully_lit() {
     let field = HeightField::new(Samples::U8(&samples), n, n, HeightConvention::Gray8)
         .unwrap()
         .with_transform(t);
-    let mut obj = field_object(0, false, false, Finish::default());
+    let mut obj = field_object(0, false, Finish::default());
     obj.transform = t;
     let elev = 10f32.to_radians();
     let far = Vec3::new(0.5, 0.0, 0.5) + Vec3::new(elev.cos(), elev.sin(), 0.0) * 1000.0;
@@ -135,7 +128,6 @@ fn reflective_flat_field_reflects_the_background_everywhere() {
     let field = HeightField::new(Samples::U8(&samples), 32, 32, HeightConvention::Gray8).unwrap();
     let obj = field_object(
         0,
-        false,
         false,
         Finish {
             reflection: Vec3::ONE,
@@ -171,7 +163,7 @@ fn a_wall_casts_a_shadow_of_the_expected_length() {
     let field = HeightField::new(Samples::U8(&samples), n, n, HeightConvention::Gray8)
         .unwrap()
         .with_transform(t);
-    let mut obj = field_object(0, false, false, Finish::default());
+    let mut obj = field_object(0, false, Finish::default());
     obj.transform = t;
     let elev = 30f32.to_radians();
     let far = Vec3::new(0.5, 0.0, 0.5) + Vec3::new(-elev.cos(), elev.sin(), 0.0) * 1000.0;
@@ -202,11 +194,11 @@ fn palette_colours_are_the_mean_of_the_triangle_vertices() {
     palette[3] = [255, 255, 255];
     let field = HeightField::new(Samples::U8(&samples), 2, 2, HeightConvention::Indexed)
         .unwrap()
-        .with_palette(&palette);
+        .with_palette(&palette)
+        .unwrap();
     let obj = field_object(
         0,
         false,
-        true,
         Finish {
             ambient: Vec3::ONE,
             diffuse: 0.0,
@@ -242,12 +234,12 @@ fn smooth_shading_keeps_geometry_and_matches_flat_on_a_gentle_plane() {
         let lights = [light(Vec3::new(-3.0, 4.0, -2.0), Vec3::ONE)];
         let flat = scene(
             oblique(),
-            &[field_object(0, false, false, Finish::default())],
+            &[field_object(0, false, Finish::default())],
             &lights,
         );
         let smooth = scene(
             oblique(),
-            &[field_object(0, true, false, Finish::default())],
+            &[field_object(0, true, Finish::default())],
             &lights,
         );
         let hit_count = hits(&flat, std::slice::from_ref(&field), 24, 18)
@@ -276,50 +268,29 @@ fn smooth_shading_keeps_geometry_and_matches_flat_on_a_gentle_plane() {
     }
 }
 
+/// A height-field object says only which field, smooth or not, and its
+/// pigment and finish: the field alone places, floods and colours it (no
+/// second copy of those facts to disagree with).
 #[test]
-fn field_and_object_must_agree() {
-    let samples = [0u8; 4];
-    let t = Transform::translate(DVec3::new(1.0, 0.0, 0.0)).unwrap();
+fn height_field_object_is_placed_and_flooded_by_its_field_alone() {
+    let samples = [0u8, 100, 200, 255];
     let field = HeightField::new(Samples::U8(&samples), 2, 2, HeightConvention::Gray8).unwrap();
-    let mut obj = field_object(0, false, false, Finish::default());
-    obj.transform = t;
-    let s = scene(top_down(), &[obj], &[]);
-    let mut line = vec![LinearRgb::default(); 2];
-    let mut sink = |_: u32, _: &[LinearRgb]| ControlFlow::Continue(());
-    let fields = std::slice::from_ref(&field);
-    let settings = RenderSettings::new(2, 2);
-    assert_eq!(
-        render(&s, fields, &settings, &mut line, &mut sink),
-        Err(RenderError::FieldMismatch {
-            object: 0,
-            field_index: 0,
-            what: FieldMismatch::Transform
-        })
-    );
-    // Built with the object's transform: fine.
-    let placed = [field.clone().with_transform(t)];
-    assert!(render(&s, &placed, &settings, &mut line, &mut sink).is_ok());
-    // Water level and palette.
-    let mut obj = field_object(0, false, true, Finish::default());
-    if let Shape::HeightField { water_level, .. } = &mut obj.shape {
-        *water_level = 0.25;
-    }
-    let s = scene(top_down(), &[obj], &[]);
-    assert!(matches!(
-        render(&s, fields, &settings, &mut line, &mut sink),
-        Err(RenderError::FieldMismatch {
-            what: FieldMismatch::WaterLevel,
-            ..
-        })
-    ));
-    let watered = [field.clone().with_water_level(0.25).unwrap()];
-    assert!(matches!(
-        render(&s, &watered, &settings, &mut line, &mut sink),
-        Err(RenderError::FieldMismatch {
-            what: FieldMismatch::Palette,
-            ..
-        })
-    ));
+    let moved = Transform::translate(DVec3::new(0.5, 0.0, 0.0)).unwrap();
+    let lights = [light(Vec3::new(-3.0, 4.0, -2.0), Vec3::ONE)];
+    let pixels = |obj: Object<'static>, field: &HeightField<'_>| {
+        let s = scene(top_down(), &[obj], &lights);
+        render_linear(&s, std::slice::from_ref(field), 8, 8, 1).0
+    };
+    let plain = field_object(0, false, Finish::default());
+    let base = pixels(plain, &field);
+    // The object's own transform is not read for a height field ...
+    let mut transformed = plain;
+    transformed.transform = moved;
+    assert_eq!(pixels(transformed, &field), base);
+    // ... the field's is, and so is its water level.
+    assert_ne!(pixels(plain, &field.clone().with_transform(moved)), base);
+    let flooded = field.clone().with_water_level(0.5).unwrap();
+    assert_ne!(pixels(plain, &flooded), base);
 }
 
 #[test]

@@ -10,7 +10,7 @@ use std::ops::ControlFlow;
 
 use common::*;
 use hfray::glam::{DVec3, Vec3};
-use hfray::scene::{CameraDesc, Finish, ImageFormat, Object, Pigment, Shape};
+use hfray::scene::{CameraDesc, Finish, Object, Pigment, Shape};
 use hfray::{render, HeightConvention, HeightField, RenderSettings, Rgb888, Samples, Transform};
 
 const STACK: usize = 64 * 1024;
@@ -34,11 +34,8 @@ fn hall_of_mirrors(max_trace_level: u32) -> (TestScene, Transform) {
         .then(&Transform::translate(DVec3::new(-1.0, -1.0, -1.0)).unwrap());
     let floor = Object {
         shape: Shape::HeightField {
-            format: ImageFormat::Pgm,
-            path: "floor.pgm",
+            source: None,
             smooth: false,
-            water_level: 0.0,
-            palette_colors: false,
             field_index: 0,
         },
         transform: t,

@@ -170,11 +170,8 @@ fn height_field_object_without_its_field_is_an_error() {
     s.objects
         .push(object(
             hfray::scene::Shape::HeightField {
-                format: hfray::scene::ImageFormat::Pgm,
-                path: "missing.pgm",
+                source: None,
                 smooth: false,
-                water_level: 0.0,
-                palette_colors: false,
                 field_index: 0,
             },
             Vec3::ONE,

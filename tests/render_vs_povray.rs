@@ -55,6 +55,7 @@ fn hfray_scene() -> (TestScene, Transform) {
             color: Vec3::new(1.0, 0.2, 0.2),
             filter: 0.0,
             transmit: 0.5,
+            ..Pigment::default()
         },
         finish: Finish {
             phong: 0.8,
@@ -72,6 +73,7 @@ fn hfray_scene() -> (TestScene, Transform) {
             color: Vec3::new(0.2, 1.0, 0.2),
             filter: 0.6,
             transmit: 0.0,
+            ..Pigment::default()
         },
         finish: Finish {
             ambient: Vec3::splat(0.2),

@@ -4,7 +4,7 @@
 use hfray::scene::{parse_scene, Diagnostic, ParseOptions, Severity, MAX_DECLARATIONS};
 
 fn err_with(src: &str, opts: &ParseOptions) -> String {
-    match parse_scene::<8, 4>(src, opts, &mut |_| {}) {
+    match parse_scene::<8, 4, 4>(src, opts, &mut |_| {}) {
         Ok(_) => panic!("expected an error for {src:?}"),
         Err(e) => {
             assert_eq!(e.severity, Severity::Error);
@@ -14,7 +14,7 @@ fn err_with(src: &str, opts: &ParseOptions) -> String {
 }
 
 fn err(src: &str) -> String {
-    err_with(src, &ParseOptions::default())
+    err_with(src, &ParseOptions::new(320, 240))
 }
 
 // --- lexical ---------------------------------------------------------------
@@ -267,7 +267,7 @@ fn degenerate_shapes() {
 fn degenerate_triangle_is_an_error_in_strict_mode() {
     let strict = ParseOptions {
         strict: true,
-        ..ParseOptions::default()
+        ..ParseOptions::new(320, 240)
     };
     assert_eq!(
         err_with("\ntriangle { 0, x, 2*x }", &strict),
@@ -309,9 +309,9 @@ fn camera_look_direction_parallel_to_sky() {
          expected a sky vector not parallel to it"
     );
     // Checked at the end of the block: a later `sky` fixes it.
-    parse_scene::<1, 1>(
+    parse_scene::<1, 1, 4>(
         "camera { location <0, 10, 0> look_at 0 sky z }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap();
@@ -442,9 +442,9 @@ fn declaration_errors() {
 
 #[test]
 fn too_many_objects() {
-    let e = parse_scene::<2, 1>(
+    let e = parse_scene::<2, 1, 4>(
         "sphere { 0, 1 }\nsphere { 0, 1 }\nsphere { 0, 1 }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap_err();
@@ -453,9 +453,9 @@ fn too_many_objects() {
 
 #[test]
 fn too_many_lights() {
-    let e = parse_scene::<2, 1>(
+    let e = parse_scene::<2, 1, 4>(
         "light_source { 0 color 1 }\nlight_source { 0 color 1 }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap_err();
@@ -505,7 +505,7 @@ fn deep_nesting_is_reported_not_a_stack_overflow() {
     );
     // Many unary minus signs are a loop, not recursion.
     let minus = format!("sphere {{ 0, {}1 }}", "- ".repeat(100_000));
-    assert!(parse_scene::<1, 1>(&minus, &ParseOptions::default(), &mut |_| {}).is_ok());
+    assert!(parse_scene::<1, 1, 4>(&minus, &ParseOptions::new(320, 240), &mut |_| {}).is_ok());
 }
 
 // --- never panic --------------------------------------------------------------------
@@ -628,7 +628,7 @@ const FRAGMENTS: &[&str] = &[
 fn parser_never_panics_on_random_and_mutated_inputs() {
     let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
     let opts = [
-        ParseOptions::default(),
+        ParseOptions::new(320, 240),
         ParseOptions {
             strict: true,
             image_width: 0,
@@ -640,7 +640,7 @@ fn parser_never_panics_on_random_and_mutated_inputs() {
     let mut oks = 0usize;
     let mut run = |src: &str, i: usize| {
         let mut warn_count = 0usize;
-        let r = parse_scene::<8, 4>(src, &opts[i % 2], &mut |d: &Diagnostic| {
+        let r = parse_scene::<8, 4, 4>(src, &opts[i % 2], &mut |d: &Diagnostic| {
             // Displaying must not panic either.
             let _ = d.to_string();
             warn_count += 1;

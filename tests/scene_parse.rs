@@ -5,16 +5,24 @@ use hfray::glam::{DVec3, Vec3};
 use hfray::scene::colors::{named_color, COLORS};
 use hfray::scene::lexer::{Lexer, TokenKind};
 use hfray::scene::{
-    parse_scene, CameraDesc, Diagnostic, Finish, ImageFormat, Object, ParseOptions, Pigment,
-    Projection, Scene, Severity, Shape,
+    parse_scene, CameraDesc, Diagnostic, Finish, HeightFieldSource, ImageFormat, Object,
+    ParseOptions, Pigment, Projection, Scene, Severity, Shape,
 };
+
+/// Each parsed height field's index, format and file name.
+fn named<'a>(scene: &S<'a>) -> Vec<(usize, ImageFormat, &'a str)> {
+    scene
+        .height_field_sources()
+        .map(|(i, source, _)| (i, source.format, source.path))
+        .collect()
+}
 use hfray::Transform;
 
 type S<'a> = Scene<'a, 16, 4>;
 
 fn parse_opts<'a>(src: &'a str, opts: &ParseOptions) -> (S<'a>, Vec<String>) {
     let mut warnings = Vec::new();
-    let scene = parse_scene::<16, 4>(src, opts, &mut |d: &Diagnostic| {
+    let scene = parse_scene::<16, 4, 4>(src, opts, &mut |d: &Diagnostic| {
         assert_eq!(d.severity, Severity::Warning);
         warnings.push(d.to_string())
     })
@@ -23,7 +31,7 @@ fn parse_opts<'a>(src: &'a str, opts: &ParseOptions) -> (S<'a>, Vec<String>) {
 }
 
 fn parse(src: &str) -> S<'_> {
-    let (scene, warnings) = parse_opts(src, &ParseOptions::default());
+    let (scene, warnings) = parse_opts(src, &ParseOptions::new(320, 240));
     assert!(warnings.is_empty(), "unexpected warnings: {warnings:?}");
     scene
 }
@@ -88,12 +96,14 @@ fn thesis_section_5_4_blocks_verbatim() {
     assert_eq!(
         hf.shape,
         Shape::HeightField {
-            format: ImageFormat::Gif,
-            path: "CANYON.GIF",
-            smooth: false,
-            water_level: 0.01,
-            palette_colors: true,
             field_index: 0,
+            smooth: false,
+            source: Some(HeightFieldSource {
+                format: ImageFormat::Gif,
+                path: "CANYON.GIF",
+                water_level: 0.01,
+                palette_colors: true,
+            }),
         }
     );
     assert_eq!(hf.pigment.color, Vec3::new(1.0, 0.8, 0.8));
@@ -103,10 +113,7 @@ fn thesis_section_5_4_blocks_verbatim() {
         .then(&t_rotate(-20.0, 25.0, 0.0))
         .then(&t_translate(0.0, 0.0, 0.0));
     assert_eq!(hf.transform, expected);
-    assert_eq!(
-        scene.height_fields().collect::<Vec<_>>(),
-        vec![(0, ImageFormat::Gif, "CANYON.GIF")]
-    );
+    assert_eq!(named(&scene), vec![(0, ImageFormat::Gif, "CANYON.GIF")]);
 }
 
 #[test]
@@ -118,13 +125,12 @@ fn pov_ray_spelling_of_the_thesis_height_field() {
     match only_object(&scene).shape {
         Shape::HeightField {
             smooth,
-            water_level,
-            palette_colors,
+            source: Some(source),
             ..
         } => {
             assert!(smooth);
-            assert_eq!(water_level, 0.01);
-            assert!(!palette_colors);
+            assert_eq!(source.water_level, 0.01);
+            assert!(!source.palette_colors);
         }
         other => panic!("{other:?}"),
     }
@@ -149,11 +155,7 @@ fn height_field_formats_and_extension_inference() {
         (r#"height_field { gif "x.dat" }"#, ImageFormat::Gif, "x.dat"),
     ] {
         let scene = parse(src);
-        assert_eq!(
-            scene.height_fields().collect::<Vec<_>>(),
-            vec![(0, format, path)],
-            "{src}"
-        );
+        assert_eq!(named(&scene), vec![(0, format, path)], "{src}");
     }
 }
 
@@ -167,7 +169,7 @@ fn height_field_indices_follow_file_order() {
            height_field { png "c.png" hierarchy off }"#,
     );
     assert_eq!(
-        scene.height_fields().collect::<Vec<_>>(),
+        named(&scene),
         vec![
             (0, ImageFormat::Gif, "a.gif"),
             (1, ImageFormat::Pgm, "b.pgm"),
@@ -179,11 +181,7 @@ fn height_field_indices_follow_file_order() {
 
 #[test]
 fn camera_records_every_item() {
-    let opts = ParseOptions {
-        image_width: 640,
-        image_height: 480,
-        ..ParseOptions::default()
-    };
+    let opts = ParseOptions::new(640, 480);
     let (scene, w) = parse_opts(
         "camera { perspective location <1, 2, -3> look_at <0, 1, 0> angle 45
                   right x*image_width/image_height up y direction <0, 0, 2> sky <0, 1, 0.1> }",
@@ -598,7 +596,7 @@ fn colors_inc_table_matches_pov_ray() {
 #[test]
 fn normal_block_in_object_warns_with_position_and_is_skipped() {
     let src = "sphere { 0, 1\n  normal { bumps 0.5 scale 0.1 }\n  pigment { rgb 1 } }";
-    let (scene, warnings) = parse_opts(src, &ParseOptions::default());
+    let (scene, warnings) = parse_opts(src, &ParseOptions::new(320, 240));
     assert_eq!(
         warnings,
         vec!["2:3: unsupported `normal` in sphere: skipped".to_string()]
@@ -614,7 +612,7 @@ global_settings { adc_bailout 0.01 }
 sphere { 0, 1 no_shadow interior { ior 1.5 } hollow on
   pigment { checker color rgb 1 color rgb 0 scale 2 }
   finish { brilliance 2 phong 1 } }"#;
-    let (scene, warnings) = parse_opts(src, &ParseOptions::default());
+    let (scene, warnings) = parse_opts(src, &ParseOptions::new(320, 240));
     assert_eq!(
         warnings,
         vec![
@@ -626,7 +624,8 @@ sphere { 0, 1 no_shadow interior { ior 1.5 } hollow on
             "4:15: unsupported `no_shadow` in sphere: skipped",
             "4:25: unsupported `interior` in sphere: skipped",
             "4:46: unsupported `hollow` in sphere: skipped",
-            "5:13: unsupported `checker` in pigment (only flat colours): skipped",
+            "5:13: unsupported `checker` in pigment (only flat colours and gradient with a color_map): \
+             skipped",
             "6:12: unsupported `brilliance` in finish: skipped",
         ]
     );
@@ -640,10 +639,10 @@ fn strict_mode_turns_the_normal_warning_into_an_error() {
     let src = "sphere { 0, 1\n  normal { bumps 0.5 }\n}";
     let opts = ParseOptions {
         strict: true,
-        ..ParseOptions::default()
+        ..ParseOptions::new(320, 240)
     };
-    let err =
-        parse_scene::<4, 1>(src, &opts, &mut |_| panic!("no warnings in strict mode")).unwrap_err();
+    let err = parse_scene::<4, 1, 4>(src, &opts, &mut |_| panic!("no warnings in strict mode"))
+        .unwrap_err();
     assert_eq!(err.severity, Severity::Error);
     assert_eq!(
         err.to_string(),
@@ -654,7 +653,7 @@ fn strict_mode_turns_the_normal_warning_into_an_error() {
 #[test]
 fn degenerate_triangle_is_dropped_with_a_warning() {
     let src = "triangle { <0, 0, 0>, <1, 1, 1>, <2, 2, 2> }\nsphere { 0, 1 }";
-    let (scene, warnings) = parse_opts(src, &ParseOptions::default());
+    let (scene, warnings) = parse_opts(src, &ParseOptions::new(320, 240));
     assert_eq!(
         warnings,
         vec!["1:1: degenerate triangle (zero area): dropped".to_string()]
@@ -664,10 +663,10 @@ fn degenerate_triangle_is_dropped_with_a_warning() {
 
 #[test]
 fn capacity_exactly_filled_is_fine() {
-    let scene = parse_scene::<3, 2>(
+    let scene = parse_scene::<3, 2, 4>(
         "sphere { 0, 1 } sphere { 0, 1 } sphere { 0, 1 }
          light_source { 0 color 1 } light_source { 0 color 1 }",
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
         &mut |_| {},
     )
     .unwrap();
@@ -700,11 +699,9 @@ height_field {
   scale <1, 0.5, 1>
 }
 "#;
-    let opts = ParseOptions {
-        image_width: 320,
-        image_height: 200,
-        ..ParseOptions::default()
-    };
+    // The image size is the render's, stated once.
+    let opts = hfray::RenderSettings::new(320, 200).parse_options();
+    assert_eq!(opts, ParseOptions::new(320, 200));
     let (scene, w) = parse_opts(src, &opts);
     assert!(w.is_empty());
     assert!(close(scene.camera.right, Vec3::new(1.6, 0.0, 0.0)));
@@ -713,10 +710,7 @@ height_field {
     assert_eq!(scene.objects.len(), 2);
     assert_eq!(scene.objects[0].finish.reflection, Vec3::splat(0.6));
     assert_eq!(scene.objects[0].pigment.color, Vec3::new(0.1, 0.3, 0.5));
-    assert_eq!(
-        scene.height_fields().collect::<Vec<_>>(),
-        vec![(0, ImageFormat::Gif, "mountain.gif")]
-    );
+    assert_eq!(named(&scene), vec![(0, ImageFormat::Gif, "mountain.gif")]);
 }
 
 #[test]
@@ -730,7 +724,10 @@ fn directives_inside_blocks_and_hierarchy_are_accepted() {
     let o = only_object(&scene);
     assert_eq!(o.pigment.color, Vec3::Y);
     match o.shape {
-        Shape::HeightField { water_level, .. } => assert_eq!(water_level, 0.25),
+        Shape::HeightField {
+            source: Some(source),
+            ..
+        } => assert_eq!(source.water_level, 0.25),
         other => panic!("{other:?}"),
     }
 }
@@ -739,14 +736,17 @@ fn directives_inside_blocks_and_hierarchy_are_accepted() {
 fn pov_image_map_block_in_height_field_warns() {
     let (scene, w) = parse_opts(
         r#"height_field { gif "a.gif" image_map { gif "a.gif" } }"#,
-        &ParseOptions::default(),
+        &ParseOptions::new(320, 240),
     );
     assert_eq!(
         w,
         vec!["1:28: unsupported `image_map` in height_field: skipped"]
     );
     match only_object(&scene).shape {
-        Shape::HeightField { palette_colors, .. } => assert!(!palette_colors),
+        Shape::HeightField {
+            source: Some(source),
+            ..
+        } => assert!(!source.palette_colors),
         other => panic!("{other:?}"),
     }
 }

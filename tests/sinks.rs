@@ -33,11 +33,7 @@ fn with_default_scene<R>(
 ) -> R {
     let path = Path::new(SCENE);
     let text = read_scene_text(path).expect("scene text");
-    let options = ParseOptions {
-        image_width: width,
-        image_height: height,
-        ..ParseOptions::default()
-    };
+    let options = ParseOptions::new(width, height);
     let scene = parse_file_scene(path, &text, &options, &mut |_| {}).expect("parse");
     let loaded = load_fields(&scene, path).expect("load fields");
     let fields = build_fields(&scene, &loaded).expect("build fields");
@@ -45,8 +41,8 @@ fn with_default_scene<R>(
 }
 
 /// Renders `settings` into a `Vec` of `(y, row)`.
-fn render_rows<P: Pixel + Default, const O: usize, const L: usize>(
-    scene: &Scene<'_, O, L>,
+fn render_rows<P: Pixel + Default, const O: usize, const L: usize, const G: usize>(
+    scene: &Scene<'_, O, L, G>,
     fields: &[HeightField<'_>],
     settings: &RenderSettings,
 ) -> Vec<(u32, Vec<P>)> {
@@ -265,12 +261,12 @@ fn formats_agree_with_rgb888_after_conversion() {
     let (w, h) = (64, 48);
     with_default_scene(w, h, |scene, fields| {
         let settings = RenderSettings::new(w, h);
-        let rgb888 = pixels(&render_rows::<Rgb888, _, _>(scene, fields, &settings));
-        let rgb565 = pixels(&render_rows::<Rgb565, _, _>(scene, fields, &settings));
-        let dith565 = pixels(&render_rows::<Rgb565Dithered, _, _>(
+        let rgb888 = pixels(&render_rows::<Rgb888, _, _, _>(scene, fields, &settings));
+        let rgb565 = pixels(&render_rows::<Rgb565, _, _, _>(scene, fields, &settings));
+        let dith565 = pixels(&render_rows::<Rgb565Dithered, _, _, _>(
             scene, fields, &settings,
         ));
-        let indexed = pixels(&render_rows::<Indexed8, _, _>(scene, fields, &settings));
+        let indexed = pixels(&render_rows::<Indexed8, _, _, _>(scene, fields, &settings));
         let distinct: std::collections::HashSet<_> = rgb888.iter().collect();
         assert!(distinct.len() > 200, "scene too flat: {}", distinct.len());
         for (i, &c) in rgb888.iter().enumerate() {
@@ -310,19 +306,23 @@ fn dithered_formats_keep_a_flat_background_mean() {
         s.map(|v| v / shown.len() as f64)
     };
     let dith = mean(
-        pixels(&render_rows::<Rgb565Dithered, _, _>(&scene, &[], &settings))
-            .iter()
-            .map(|p| p.to_rgb888())
-            .collect(),
+        pixels(&render_rows::<Rgb565Dithered, _, _, _>(
+            &scene,
+            &[],
+            &settings,
+        ))
+        .iter()
+        .map(|p| p.to_rgb888())
+        .collect(),
     );
     let idx = mean(
-        pixels(&render_rows::<Indexed8, _, _>(&scene, &[], &settings))
+        pixels(&render_rows::<Indexed8, _, _, _>(&scene, &[], &settings))
             .iter()
             .map(|p| p.to_rgb888())
             .collect(),
     );
     let flat = mean(
-        pixels(&render_rows::<Rgb565, _, _>(&scene, &[], &settings))
+        pixels(&render_rows::<Rgb565, _, _, _>(&scene, &[], &settings))
             .iter()
             .map(|p| p.to_rgb888())
             .collect(),
@@ -349,7 +349,7 @@ fn dithered_formats_keep_a_flat_background_mean() {
 fn bands_stacked_equal_the_full_image() {
     let (w, h) = (48, 40);
     with_default_scene(w, h, |scene, fields| {
-        let full = render_rows::<Rgb888, _, _>(scene, fields, &RenderSettings::new(w, h));
+        let full = render_rows::<Rgb888, _, _, _>(scene, fields, &RenderSettings::new(w, h));
         assert_eq!(
             full.iter().map(|(y, _)| *y).collect::<Vec<_>>(),
             (0..h).collect::<Vec<_>>()
@@ -363,7 +363,7 @@ fn bands_stacked_equal_the_full_image() {
             let mut stacked = Vec::new();
             for band in split.iter().cloned() {
                 let settings = RenderSettings::new(w, h).with_rows(band.clone());
-                let rows = render_rows::<Indexed8, _, _>(scene, fields, &settings);
+                let rows = render_rows::<Indexed8, _, _, _>(scene, fields, &settings);
                 // Each row reports its index in the whole image.
                 assert_eq!(
                     rows.iter().map(|(y, _)| *y).collect::<Vec<_>>(),
@@ -495,7 +495,7 @@ fn render_command_threads_give_identical_bytes() {
     // And the command agrees with an in-process render, byte for byte
     // (TGA rows are BGR).
     let inproc = with_default_scene(w, h, |scene, fields| {
-        pixels(&render_rows::<Rgb888, _, _>(
+        pixels(&render_rows::<Rgb888, _, _, _>(
             scene,
             fields,
             &RenderSettings::new(w, h),
@@ -613,7 +613,7 @@ mod embedded_graphics {
     fn rows_arrive_at_their_y_as_one_row_rectangles() {
         let (w, h) = (40, 30);
         with_default_scene(w, h, |scene, fields| {
-            let want = render_rows::<Rgb565, _, _>(scene, fields, &RenderSettings::new(w, h));
+            let want = render_rows::<Rgb565, _, _, _>(scene, fields, &RenderSettings::new(w, h));
             let mut display = Recorder::<eg::Rgb565>::new(100, 100);
             let origin = Point::new(7, 11);
             let mut line = vec![Rgb565::default(); w as usize];

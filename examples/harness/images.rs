@@ -276,13 +276,14 @@ impl LoadedField {
     }
 
     /// A core height field over these samples, in the unit cube, with the
-    /// palette attached when the image has one (the renderer decides from
-    /// the scene whether to colour with it). Chain `with_water_level`,
-    /// `with_transform` on the result.
+    /// palette attached when the image has one (a render then colours the
+    /// field with it; `scene_io::build_fields` attaches it only for
+    /// `image_map`). Chain `with_water_level`, `with_transform` on the
+    /// result.
     pub fn height_field(&self) -> Result<HeightField<'_>, HeightFieldError> {
         let field = HeightField::new(self.samples(), self.width, self.depth, self.convention)?;
         Ok(match &self.palette {
-            Some(p) => field.with_palette(p),
+            Some(p) => field.with_palette(p)?,
             None => field,
         })
     }

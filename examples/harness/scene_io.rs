@@ -1,6 +1,7 @@
 //! Scene files from disk: parse a `.pov` file and load the height-field
 //! images it names (relative to the scene file's folder), then build one
-//! [`HeightField`] per `field_index`, placed by its object.
+//! [`HeightField`] per `field_index` from what the file said about it (its
+//! [`HeightFieldSource`](hfray::scene::HeightFieldSource) and transform).
 //!
 //! Ownership is split in three steps because the scene borrows its text and
 //! the fields borrow their samples: the caller keeps the text, the parsed
@@ -9,7 +10,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use hfray::scene::{parse_scene_located, Echo, ImageFormat, ParseOptions, Pos, Scene, Shape};
+use hfray::scene::{
+    parse_scene_located, Echo, HeightFieldSource, ImageFormat, ParseOptions, Pos, Scene, Shape,
+};
+use hfray::transform::Transform;
 use hfray::{HeightField, SkipGrid};
 
 use super::images::{load_height_field_within, DecodeBudget, LoadedField};
@@ -142,20 +146,19 @@ pub fn parse_file_scene_located<'src>(
 }
 
 /// Every height-field object: (object index, field index, format, file).
-fn field_objects<'s>(
-    scene: &'s FileScene<'_>,
-) -> impl Iterator<Item = (usize, usize, ImageFormat, &'s str)> + 's {
+fn field_objects<'s, 'src>(
+    scene: &'s FileScene<'src>,
+) -> impl Iterator<Item = (usize, usize, HeightFieldSource<'src>, &'s Transform)> + 's {
     scene
         .objects
         .iter()
         .enumerate()
         .filter_map(|(i, o)| match o.shape {
             Shape::HeightField {
-                format,
-                path,
                 field_index,
+                source: Some(hf),
                 ..
-            } => Some((i, field_index, format, path)),
+            } => Some((i, field_index, hf, &o.transform)),
             _ => None,
         })
 }
@@ -164,7 +167,7 @@ fn field_objects<'s>(
 /// (includes are built in; none is read from disk).
 pub fn input_files(scene: &FileScene<'_>, source: &SceneSource) -> Vec<PathBuf> {
     let mut files = vec![source.file.clone()];
-    files.extend(field_objects(scene).map(|(_, _, _, file)| source.resolve(file)));
+    files.extend(field_objects(scene).map(|(_, _, hf, _)| source.resolve(hf.path)));
     files
 }
 
@@ -195,8 +198,8 @@ pub fn load_fields_within(
     named.sort_by_key(|&(_, field_index, _, _)| field_index);
     let mut decoded: Vec<(FileId, ImageFormat, Arc<LoadedField>)> = Vec::new();
     let mut fields = Vec::with_capacity(named.len());
-    for (object, _, format, file) in named {
-        let resolved = source.resolve(file);
+    for (object, _, hf, _) in named {
+        let (format, resolved) = (hf.format, source.resolve(hf.path));
         let at = |e: String| format!("{}: {e}", source.at(object));
         let id = file_id(&resolved);
         let shared = decoded
@@ -234,8 +237,9 @@ fn file_id(path: &Path) -> FileId {
     }
 }
 
-/// One [`HeightField`] per loaded image, carrying its object's transform,
-/// water level and (for palette colouring) palette.
+/// One [`HeightField`] per loaded image: the one place a parsed height field
+/// becomes the field the renderer uses, with the file's transform, water
+/// level and (for palette colouring) palette.
 pub fn build_fields<'d>(
     scene: &FileScene<'_>,
     loaded: &'d [Arc<LoadedField>],
@@ -250,17 +254,8 @@ pub fn build_fields_located<'d>(
     source: &SceneSource,
 ) -> Result<Vec<HeightField<'d>>, String> {
     let mut fields: Vec<Option<HeightField<'d>>> = vec![None; loaded.len()];
-    for (i, object) in scene.objects.iter().enumerate() {
-        let Shape::HeightField {
-            path,
-            water_level,
-            palette_colors,
-            field_index,
-            ..
-        } = object.shape
-        else {
-            continue;
-        };
+    for (i, field_index, hf, transform) in field_objects(scene) {
+        let path = hf.path;
         let at = |e: &dyn std::fmt::Display| {
             format!("{}: height_field \"{}\": {e}", source.at(i), Echo(path))
         };
@@ -270,17 +265,17 @@ pub fn build_fields_located<'d>(
         let samples = data.samples();
         let mut field = HeightField::new(samples, data.width(), data.depth(), data.convention())
             .map_err(|e| at(&e))?
-            .with_water_level(water_level)
+            .with_water_level(hf.water_level)
             .map_err(|e| at(&e))?
-            .try_with_transform(object.transform)
+            .try_with_transform(*transform)
             .map_err(|e| at(&e))?;
         if let Some(bytes) = data.skip_bytes() {
             let grid = SkipGrid::from_precomputed(bytes, &field).map_err(|e| at(&e))?;
             field = field.with_skip(grid).map_err(|e| at(&e))?;
         }
-        if palette_colors {
+        if hf.palette_colors {
             match data.palette() {
-                Some(palette) => field = field.with_palette(palette),
+                Some(palette) => field = field.with_palette(palette).map_err(|e| at(&e))?,
                 None => return Err(at(
                     &"image_map (palette colouring) needs an indexed image (GIF or palette PNG)",
                 )),

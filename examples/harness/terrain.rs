@@ -1,6 +1,6 @@
-//! Real terrain import (§4.2.2.1, §6.2.1.1): ESRI ASCII grids (`.asc`)
-//! and plain numeric arrays → 8-bit or 16-bit height-field samples, with
-//! a careful quantiser.
+//! Real terrain import (§4.2.2.1, §6.2.1.1): ESRI ASCII grids (`.asc`),
+//! GeoTIFF elevation models and plain numeric arrays → 8-bit or 16-bit
+//! height-field samples, with a careful quantiser.
 //!
 //! The thesis converted USGS/DEM files to 256-level GIFs and found the
 //! public converters "lost many important values" (its Crater Lake
@@ -29,8 +29,8 @@
 //! row 0, which POV-Ray places at `z = 1` — north is +z, east is +x.
 //!
 //! Include with `#[path = "../examples/harness/terrain.rs"] mod terrain;`
-//! (tests) or through the harness module (examples). Needs only `std`
-//! and `hfray`.
+//! (tests) or through the harness module (examples). Needs `std`,
+//! `hfray` and (for GeoTIFF) the `tiff` crate.
 #![allow(dead_code)]
 
 use std::collections::VecDeque;
@@ -74,6 +74,9 @@ pub enum TerrainErrorKind {
     AllNoData,
     /// A quantiser option is out of range.
     BadOption(String),
+    /// A GeoTIFF could not be decoded, or is not a single-band elevation
+    /// raster hfray reads.
+    Tiff(String),
 }
 
 /// An error with the 1-based line it was found on, when it has one.
@@ -123,6 +126,7 @@ impl fmt::Display for TerrainError {
             ),
             TerrainErrorKind::AllNoData => f.write_str("every cell is no-data"),
             TerrainErrorKind::BadOption(e) => write!(f, "bad option: {e}"),
+            TerrainErrorKind::Tiff(e) => write!(f, "GeoTIFF: {e}"),
         }
     }
 }
@@ -420,10 +424,172 @@ pub fn parse_array(text: &str, nodata: Option<f64>) -> Result<Grid, TerrainError
     })
 }
 
-/// Reads a grid file: an ESRI ASCII grid if its first word is `ncols`
-/// (any case), otherwise a plain array with no no-data marker.
+/// Whether `bytes` start like a TIFF (`II*\0` or `MM\0*`; BigTIFF too).
+pub fn is_tiff(bytes: &[u8]) -> bool {
+    matches!(
+        bytes.get(..4),
+        Some(b"II*\0" | b"MM\0*" | b"II+\0" | b"MM\0+")
+    )
+}
+
+fn tiff_error(e: tiff::TiffError) -> TerrainError {
+    TerrainError::whole(TerrainErrorKind::Tiff(e.to_string()))
+}
+
+/// GeoKey `GTRasterTypeGeoKey` (1025) says `RasterPixelIsPoint` (2): the
+/// tie point is a cell centre, not its corner.
+fn pixel_is_point(geokeys: &[u16]) -> bool {
+    // Header [version, revision, minor, key count], then 4 shorts a key:
+    // [id, tag location (0: value inline), count, value].
+    let count = geokeys.get(3).map_or(0, |&n| n as usize);
+    geokeys
+        .get(4..)
+        .unwrap_or(&[])
+        .chunks_exact(4)
+        .take(count)
+        .any(|k| k[0] == 1025 && k[1] == 0 && k[3] == 2)
+}
+
+/// Parses a GeoTIFF elevation model (the first image of the file): one
+/// band of int16 (SRTM), uint16, float32 (Copernicus GLO-30, USGS 3DEP)
+/// or another integer or float type, in strips or tiles, uncompressed,
+/// deflate or LZW, with or without predictor 2 (horizontal) or 3
+/// (floating point) — decoding is the `tiff` crate's. Row 0 is the
+/// image's top (north) row, as in an `.asc`.
+///
+/// No-data: cells equal to GDAL's no-data tag (42113, an ASCII number;
+/// compared in the raster's own type) and NaN cells become no-data, filled
+/// by the quantiser as the `.asc` path fills them. The cell size comes
+/// from `ModelPixelScaleTag` and the lower-left reference point from
+/// `ModelTiepointTag` (tie point at raster `(0, 0)`), a corner or, with
+/// `RasterPixelIsPoint`, a centre. A raster rotated by
+/// `ModelTransformationTag` has no cell size here (the samples are still
+/// read).
+pub fn parse_geotiff(bytes: &[u8]) -> Result<Grid, TerrainError> {
+    use tiff::decoder::{Decoder, DecodingResult};
+    use tiff::tags::Tag;
+    use tiff::ColorType;
+
+    let mut decoder = Decoder::new(std::io::Cursor::new(bytes)).map_err(tiff_error)?;
+    let (ncols, nrows) = decoder.dimensions().map_err(tiff_error)?;
+    let (ncols, nrows) = (ncols as usize, nrows as usize);
+    match decoder.colortype().map_err(tiff_error)? {
+        ColorType::Gray(_) => {}
+        other => {
+            return Err(TerrainError::whole(TerrainErrorKind::Tiff(format!(
+                "{other:?} pixels: an elevation model has one band"
+            ))))
+        }
+    }
+    let nodata = match decoder.find_tag(Tag::GdalNodata).map_err(tiff_error)? {
+        None => None,
+        Some(value) => {
+            let text = value.into_string().map_err(tiff_error)?;
+            let text = text.trim_matches(|c: char| c == '\0' || c.is_whitespace());
+            Some(text.parse::<f64>().map_err(|_| {
+                TerrainError::whole(TerrainErrorKind::Tiff(format!(
+                    "no-data tag 42113 `{text}` is not a number"
+                )))
+            })?)
+        }
+    };
+    let f64_tag = |decoder: &mut Decoder<_>, tag| -> Result<Option<Vec<f64>>, TerrainError> {
+        match decoder.find_tag(tag).map_err(tiff_error)? {
+            None => Ok(None),
+            Some(v) => v.into_f64_vec().map(Some).map_err(tiff_error),
+        }
+    };
+    let scale = f64_tag(&mut decoder, Tag::ModelPixelScaleTag)?;
+    let tiepoint = f64_tag(&mut decoder, Tag::ModelTiepointTag)?;
+    let geokeys = match decoder
+        .find_tag(Tag::GeoKeyDirectoryTag)
+        .map_err(tiff_error)?
+    {
+        None => Vec::new(),
+        Some(v) => v.into_u16_vec().map_err(tiff_error)?,
+    };
+
+    // Each cell in f64 (exact for every type but 64-bit integers), NaN for
+    // no-data; no-data is compared in the raster's type, so a float32
+    // marker written in decimal (`-3.4028234663852886e+38`) still matches.
+    fn cells<T: Copy>(
+        v: &[T],
+        to_f64: impl Fn(T) -> f64,
+        is_nodata: impl Fn(T) -> bool,
+    ) -> Vec<f64> {
+        v.iter()
+            .map(|&x| if is_nodata(x) { f64::NAN } else { to_f64(x) })
+            .collect()
+    }
+    let matches_f64 = |x: f64| nodata.is_some_and(|n| x == n);
+    let values = match decoder.read_image().map_err(tiff_error)? {
+        DecodingResult::I16(v) => cells(&v, f64::from, |x| matches_f64(f64::from(x))),
+        DecodingResult::U16(v) => cells(&v, f64::from, |x| matches_f64(f64::from(x))),
+        DecodingResult::U8(v) => cells(&v, f64::from, |x| matches_f64(f64::from(x))),
+        DecodingResult::I8(v) => cells(&v, f64::from, |x| matches_f64(f64::from(x))),
+        DecodingResult::I32(v) => cells(&v, f64::from, |x| matches_f64(f64::from(x))),
+        DecodingResult::U32(v) => cells(&v, f64::from, |x| matches_f64(f64::from(x))),
+        DecodingResult::F32(v) => cells(&v, f64::from, |x| {
+            x.is_nan() || nodata.is_some_and(|n| x == n as f32)
+        }),
+        DecodingResult::F64(v) => cells(&v, |x| x, |x| x.is_nan() || matches_f64(x)),
+        _ => {
+            return Err(TerrainError::whole(TerrainErrorKind::Tiff(
+                "unsupported sample type (16-bit float or 64-bit integer)".into(),
+            )))
+        }
+    };
+    if let Some(bad) = values.iter().find(|v| v.is_infinite()) {
+        return Err(TerrainError::whole(TerrainErrorKind::NotNumeric(
+            bad.to_string(),
+        )));
+    }
+    if values.len() != ncols * nrows {
+        return Err(TerrainError::whole(TerrainErrorKind::WrongCount {
+            expected: ncols * nrows,
+            found: values.len(),
+        }));
+    }
+    if ncols < 2 || nrows < 2 {
+        return Err(TerrainError::whole(TerrainErrorKind::TooSmall {
+            ncols,
+            nrows,
+        }));
+    }
+    let cellsize = scale
+        .as_deref()
+        .and_then(|s| (s.len() >= 2 && s[0] > 0.0 && s[1] > 0.0).then(|| [s[0], s[1]]));
+    // Tie point (i, j, k, x, y, z) at raster (0, 0): the top-left corner
+    // (PixelIsArea) or the top-left cell's centre (PixelIsPoint).
+    let origin = match (cellsize, tiepoint.as_deref()) {
+        (Some([_, dy]), Some(&[0.0, 0.0, _, x, y, ..])) => Some(if pixel_is_point(&geokeys) {
+            Origin::Center(x, y - (nrows - 1) as f64 * dy)
+        } else {
+            Origin::Corner(x, y - nrows as f64 * dy)
+        }),
+        _ => None,
+    };
+    Ok(Grid {
+        ncols,
+        nrows,
+        values,
+        cellsize,
+        origin,
+        nodata_value: nodata,
+    })
+}
+
+/// Reads a grid file: a GeoTIFF if it starts like a TIFF, an ESRI ASCII
+/// grid if its first word is `ncols` (any case), otherwise a plain array
+/// with no no-data marker.
 pub fn read_grid(path: &Path) -> Result<Grid, TerrainError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let bytes = std::fs::read(path).map_err(|e| {
+        TerrainError::whole(TerrainErrorKind::Io(format!("{}: {e}", path.display())))
+    })?;
+    if is_tiff(&bytes) {
+        return parse_geotiff(&bytes);
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
         TerrainError::whole(TerrainErrorKind::Io(format!("{}: {e}", path.display())))
     })?;
     let first = text.split_whitespace().next().unwrap_or("");

@@ -265,7 +265,7 @@ fuzz_target!(|input: Input| {
             let k = i * 3;
             [seed[k % 8], seed[(k + 1) % 8].wrapping_add(i as u8), seed[(k + 2) % 8]]
         });
-        field = field.with_palette(&palette);
+        field = field.with_palette(&palette).expect("8-bit samples");
     }
     let mut transform = Transform::IDENTITY;
     for op in input.ops.iter().take(4) {

@@ -19,7 +19,7 @@ use hfray::pixel::LinearRgb;
 use hfray::render::{
     render, render_coherent, render_depth, render_depth_coherent, RenderSettings, RowOrder,
 };
-use hfray::scene::{parse_scene, ParseOptions, Scene, Shape};
+use hfray::scene::{parse_scene, ParseOptions, Scene};
 use hfray::{ColumnHint, HeightConvention, HeightField, Samples};
 use libfuzzer_sys::fuzz_target;
 
@@ -33,12 +33,8 @@ fuzz_target!(|data: &[u8]| {
     let aa = 1 + u32::from(cfg[2]) % 3;
     let (fw, fd) = (2 + u32::from(cfg[3]) % 16, 2 + u32::from(cfg[4]) % 16);
     let text = String::from_utf8_lossy(text);
-    let options = ParseOptions {
-        image_width: width,
-        image_height: height,
-        ..ParseOptions::default()
-    };
-    let Ok(scene) = parse_scene::<16, 4>(&text, &options, &mut |_| {}) else {
+    let options = ParseOptions::new(width, height);
+    let Ok(scene) = parse_scene::<16, 4, 4>(&text, &options, &mut |_| {}) else {
         return;
     };
     let n = (fw * fd) as usize;
@@ -121,23 +117,14 @@ fn fields<'a>(
     palette: &'a [[u8; 3]; 256],
 ) -> Option<Vec<HeightField<'a>>> {
     let mut out: Vec<Option<HeightField<'a>>> = Vec::new();
-    for object in &scene.objects {
-        let Shape::HeightField {
-            water_level,
-            palette_colors,
-            field_index,
-            ..
-        } = object.shape
-        else {
-            continue;
-        };
+    for (field_index, source, transform) in scene.height_field_sources() {
         let mut f = HeightField::new(Samples::U8(samples), fw, fd, HeightConvention::Indexed)
             .ok()?
-            .with_water_level(water_level)
+            .with_water_level(source.water_level)
             .ok()?
-            .with_transform(object.transform);
-        if palette_colors {
-            f = f.with_palette(palette);
+            .with_transform(*transform);
+        if source.palette_colors {
+            f = f.with_palette(palette).ok()?;
         }
         if out.len() <= field_index {
             out.resize(field_index + 1, None);

@@ -37,6 +37,10 @@
 //!   `rotate <v>`, `translate <v>`, `matrix <12 floats>`,
 //!   `transform { .. }` — composed in written order as POV-Ray does;
 //!   `pigment { color .. }` (flat colours; pigment transforms accepted),
+//!   `pigment { gradient <v> color_map { [v color ..] … } transforms }`
+//!   (POV-Ray 3.7's gradient: linear between entries, repeating each unit;
+//!   up to [`MAX_COLOR_MAP_ENTRIES`] entries; a pigment written before an
+//!   object's transforms moves with them, one written after does not),
 //!   `finish { ambient diffuse phong phong_size specular roughness
 //!   reflection }`, `texture { pigment finish }`, and the thesis's bare
 //!   `color rgb <..>` in the object, meaning the pigment colour (POV-Ray
@@ -54,7 +58,7 @@
 //!   named colours, built in: [`colors`]); any other include is an error.
 //!
 //! Inside objects and blocks, POV-Ray features hfray does not implement
-//! (`normal { }`, `interior { }`, pigment patterns, `no_shadow`, ...) are
+//! (`normal { }`, `interior { }`, other pigment patterns, `no_shadow`, ...) are
 //! reported through the `warn` callback with their position and skipped;
 //! with [`ParseOptions::strict`] they are errors. Unknown identifiers and
 //! unknown top-level items are errors. Nesting is limited to [`MAX_DEPTH`].

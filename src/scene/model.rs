@@ -3,11 +3,13 @@
 //! The parser fills it; firmware can also build one directly in code.
 //! Capacities are const generics, so a build pays only for the objects and
 //! lights its scenes need. Height-field *data* is not part of the model:
-//! each `height_field` object names its image and gets a `field_index`; the
-//! caller loads the images and hands the renderer one
-//! [`HeightField`](crate::HeightField) per index.
+//! each height-field object refers by `field_index` to one of the
+//! [`HeightField`](crate::HeightField)s handed to the renderer, which carry
+//! their placement, water level and palette. A parsed `height_field` also
+//! keeps what the file said about it (a [`HeightFieldSource`]), from which
+//! the caller builds that field.
 
-use glam::Vec3;
+use glam::{DAffine3, Vec3};
 use heapless::Vec;
 
 use crate::transform::Transform;
@@ -39,7 +41,9 @@ pub struct CameraDesc {
     pub look_at: Vec3,
     /// `angle` in degrees (horizontal field of view), if given.
     pub angle: Option<f32>,
-    /// `right` (default `<1.33, 0, 0>`).
+    /// `right` (default `<1.33, 0, 0>`, POV-Ray's, whatever the image's
+    /// aspect; [`CameraDesc::looking_at`] and
+    /// [`CameraDesc::heading_pitch`] take the aspect).
     pub right: Vec3,
     /// `up` (default `<0, 1, 0>`).
     pub up: Vec3,
@@ -73,7 +77,8 @@ pub struct Light {
     pub color: Color,
 }
 
-/// `pigment { color rgb/rgbf/rgbt/rgbft <..> }`.
+/// `pigment { color rgb/rgbf/rgbt/rgbft <..> }`, or with
+/// [`gradient`](Self::gradient) a colour that varies over the surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pigment {
     /// Surface colour.
@@ -82,6 +87,12 @@ pub struct Pigment {
     pub filter: f32,
     /// `transmit`: share of light passing through untinted.
     pub transmit: f32,
+    /// `gradient .. color_map { .. }`: when set, an index into the scene's
+    /// [`gradients`](Scene::gradients) (a colour map is too large to keep
+    /// in every object); the colour, filter and transmit at each point
+    /// then come from that gradient, and the three fields above are not
+    /// used.
+    pub gradient: Option<u8>,
 }
 
 impl Default for Pigment {
@@ -91,6 +102,182 @@ impl Default for Pigment {
             color: Vec3::ZERO,
             filter: 0.0,
             transmit: 0.0,
+            gradient: None,
+        }
+    }
+}
+
+/// The most entries a [`ColorMap`] holds (POV-Ray allows 256; terrain
+/// maps use a handful, and each entry costs 24 bytes in every gradient of
+/// the scene's pool).
+pub const MAX_COLOR_MAP_ENTRIES: usize = 8;
+
+/// One `[value color ..]` of a `color_map`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ColorMapEntry {
+    /// Where in the pattern's `0..1` this colour is.
+    pub value: f32,
+    /// Colour.
+    pub color: Color,
+    /// Filter.
+    pub filter: f32,
+    /// Transmit.
+    pub transmit: f32,
+}
+
+/// `color_map { [v color ..] … }`: colours at pattern values, in
+/// non-decreasing value order, interpolated linearly between entries
+/// (POV-Ray 3.7's blend map).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColorMap {
+    entries: [ColorMapEntry; MAX_COLOR_MAP_ENTRIES],
+    len: u8,
+}
+
+impl ColorMap {
+    /// POV-Ray's map for a pattern given none: black at 0 to white at 1.
+    pub const GRAY: ColorMap = {
+        let mut entries = [ColorMapEntry {
+            value: 0.0,
+            color: Vec3::ZERO,
+            filter: 0.0,
+            transmit: 0.0,
+        }; MAX_COLOR_MAP_ENTRIES];
+        entries[1] = ColorMapEntry {
+            value: 1.0,
+            color: Vec3::ONE,
+            filter: 0.0,
+            transmit: 0.0,
+        };
+        ColorMap { entries, len: 2 }
+    };
+
+    /// A map of `entries`; `None` if there are none, more than
+    /// [`MAX_COLOR_MAP_ENTRIES`], or their values decrease or are not
+    /// finite.
+    pub fn new(entries: &[ColorMapEntry]) -> Option<ColorMap> {
+        if entries.is_empty() || entries.len() > MAX_COLOR_MAP_ENTRIES {
+            return None;
+        }
+        let ordered = entries.windows(2).all(|w| w[0].value <= w[1].value);
+        if !ordered || !entries.iter().all(|e| e.value.is_finite()) {
+            return None;
+        }
+        let mut map = ColorMap {
+            entries: [ColorMapEntry::default(); MAX_COLOR_MAP_ENTRIES],
+            len: entries.len() as u8,
+        };
+        map.entries[..entries.len()].copy_from_slice(entries);
+        Some(map)
+    }
+
+    /// The entries, in value order.
+    pub fn entries(&self) -> &[ColorMapEntry] {
+        &self.entries[..self.len as usize]
+    }
+
+    /// Whether no colour of the map lets light through (every filter and
+    /// transmit zero).
+    pub fn is_opaque(&self) -> bool {
+        self.entries()
+            .iter()
+            .all(|e| e.filter == 0.0 && e.transmit == 0.0)
+    }
+
+    /// The colour at pattern value `value`: the first entry's at or below
+    /// its value, the last's at or above its value, linear in between
+    /// (colour, filter and transmit alike). Where two entries share a value
+    /// the colour steps there.
+    pub fn at(&self, value: f32) -> ColorMapEntry {
+        let entries = self.entries();
+        let first = entries[0];
+        if !(value > first.value) {
+            return first;
+        }
+        // Bound: at most MAX_COLOR_MAP_ENTRIES steps.
+        for pair in entries.windows(2) {
+            let (lo, hi) = (pair[0], pair[1]);
+            if value <= hi.value {
+                let w = (value - lo.value) / (hi.value - lo.value);
+                let mix = |a: f32, b: f32| a + (b - a) * w;
+                return ColorMapEntry {
+                    value,
+                    color: lo.color + (hi.color - lo.color) * w,
+                    filter: mix(lo.filter, hi.filter),
+                    transmit: mix(lo.transmit, hi.transmit),
+                };
+            }
+        }
+        entries[entries.len() - 1]
+    }
+}
+
+/// `gradient <v>` with its `color_map`, in object space: the pattern
+/// value at object-space point `p` is `direction·p + offset`, repeated
+/// each unit (POV-Ray's ramp wave), then looked up in the map. A pigment's
+/// own transforms and those the object had before the pigment was written
+/// are folded into `direction` and `offset`; the object's later transforms
+/// move the pattern with the object, as in POV-Ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gradient {
+    /// The gradient's direction (unit length for `gradient x|y|z` on an
+    /// untransformed object), in object space.
+    pub direction: Vec3,
+    /// The pattern value at the object-space origin.
+    pub offset: f32,
+    /// The colours.
+    pub color_map: ColorMap,
+}
+
+impl Gradient {
+    /// `gradient axis` (normalised, as POV-Ray does) with `color_map`, in
+    /// the object's own space: it moves with the object.
+    pub fn along(axis: Vec3, color_map: ColorMap) -> Gradient {
+        Gradient {
+            direction: axis.normalize_or_zero(),
+            offset: 0.0,
+            color_map,
+        }
+    }
+
+    /// The same pattern moved by `t`, as a transform written after it
+    /// moves it: the new value at `q` is the old one at `t⁻¹(q)`.
+    pub fn transformed(&self, t: &Transform) -> Gradient {
+        self.composed_with(t.to_object())
+    }
+
+    /// The same pattern in the coordinates `t` maps from: the new value at
+    /// `p` is the old one at `t(p)` (a pattern given in world space, seen
+    /// in the space of an object placed by `t`).
+    pub fn pulled_back(&self, t: &Transform) -> Gradient {
+        self.composed_with(t.to_world())
+    }
+
+    /// `v'(p) = v(m·p)`, in `f64`.
+    fn composed_with(&self, m: &DAffine3) -> Gradient {
+        let d = self.direction.as_dvec3();
+        Gradient {
+            direction: (m.matrix3.transpose() * d).as_vec3(),
+            offset: (d.dot(m.translation) + self.offset as f64) as f32,
+            color_map: self.color_map,
+        }
+    }
+
+    /// The linear value `direction·p + offset` at `p`.
+    pub fn linear(&self, p: Vec3) -> f32 {
+        self.direction.dot(p) + self.offset
+    }
+
+    /// The pattern value for the linear value `v = direction·p + offset`:
+    /// POV-Ray 3.7's ramp wave, `fmod(v, 1.00001)` brought into `[0, 1)`
+    /// for negative `v` (the 1.00001 is POV-Ray's, and keeps `v = 1`
+    /// at 1 rather than wrapping it to 0).
+    pub fn wave(v: f32) -> f32 {
+        let r = libm::fmodf(v, 1.00001);
+        if r < 0.0 {
+            r - libm::floorf(r)
+        } else {
+            r
         }
     }
 }
@@ -145,25 +332,38 @@ pub enum ImageFormat {
     Pot,
 }
 
+/// What a scene file says about a `height_field`: the description the
+/// caller builds the [`HeightField`](crate::HeightField) from (with the
+/// object's transform). The renderer never reads it: it renders the field.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeightFieldSource<'src> {
+    /// The image format keyword (or the one the extension implies).
+    pub format: ImageFormat,
+    /// The file name as written (relative to the scene file).
+    pub path: &'src str,
+    /// `water_level` in `[0, 1]`.
+    pub water_level: f32,
+    /// Thesis-style palette colouring (`image_map` in the thesis's
+    /// syntax): the field is to be built with its image's palette, and a
+    /// triangle's colour is then the mean of its vertices' palette colours.
+    pub palette_colors: bool,
+}
+
 /// The geometry of an object, in object space.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shape<'src> {
-    /// `height_field { format "file" .. }`: the unit cube.
+    /// A height field: the caller's `fields[field_index]`, placed, flooded
+    /// and coloured as that [`HeightField`](crate::HeightField) says (its
+    /// transform, water level and palette; a field with a palette is
+    /// coloured by it).
     HeightField {
-        /// The image format keyword.
-        format: ImageFormat,
-        /// The file name as written (relative to the scene file).
-        path: &'src str,
-        /// `smooth`: interpolated shading normals.
-        smooth: bool,
-        /// `water_level` in `[0, 1]`.
-        water_level: f32,
-        /// Thesis-style palette colouring (`image_map` in the thesis's
-        /// syntax): a triangle's colour is the mean of its vertices'
-        /// palette colours.
-        palette_colors: bool,
         /// Index into the height fields handed to the renderer.
         field_index: usize,
+        /// `smooth`: interpolated shading normals.
+        smooth: bool,
+        /// The file's description of the field, when a file named one
+        /// (`None` in scenes built in code).
+        source: Option<HeightFieldSource<'src>>,
     },
     /// `plane { normal, distance }`: points with `p·normal = distance`.
     Plane {
@@ -223,6 +423,9 @@ pub struct Object<'src> {
     /// Geometry in object space.
     pub shape: Shape<'src>,
     /// Object-to-world placement (all `scale/rotate/translate`, in order).
+    /// A height field is placed by its field's own transform instead; for
+    /// a parsed one this is the transform the file gave, to build the field
+    /// with.
     pub transform: Transform,
     /// Colour.
     pub pigment: Pigment,
@@ -251,9 +454,17 @@ impl Default for GlobalSettings {
     }
 }
 
-/// A whole scene, with room for `OBJECTS` objects and `LIGHTS` lights.
+/// A whole scene, with room for `OBJECTS` objects, `LIGHTS` lights and
+/// `GRADIENTS` gradient pigments (about 210 bytes each, for the colour
+/// map: a scene without gradients can set `GRADIENTS` to 0 and pay
+/// nothing for them).
 #[derive(Debug, Clone)]
-pub struct Scene<'src, const OBJECTS: usize = 32, const LIGHTS: usize = 8> {
+pub struct Scene<
+    'src,
+    const OBJECTS: usize = 32,
+    const LIGHTS: usize = 8,
+    const GRADIENTS: usize = 4,
+> {
     /// The camera (the last `camera` block wins, as in POV-Ray).
     pub camera: CameraDesc,
     /// Light sources.
@@ -262,37 +473,85 @@ pub struct Scene<'src, const OBJECTS: usize = 32, const LIGHTS: usize = 8> {
     pub background: Color,
     /// Objects, in file order.
     pub objects: Vec<Object<'src>, OBJECTS>,
+    /// The gradient pigments' patterns and colour maps, in file order;
+    /// [`Pigment::gradient`] indexes them.
+    pub gradients: Vec<Gradient, GRADIENTS>,
     /// `global_settings`.
     pub settings: GlobalSettings,
     /// `#version`, if given.
     pub version: Option<f32>,
 }
 
-impl<const OBJECTS: usize, const LIGHTS: usize> Default for Scene<'_, OBJECTS, LIGHTS> {
+impl<const OBJECTS: usize, const LIGHTS: usize, const GRADIENTS: usize> Default
+    for Scene<'_, OBJECTS, LIGHTS, GRADIENTS>
+{
     fn default() -> Self {
         Scene {
             camera: CameraDesc::default(),
             lights: Vec::new(),
             background: Vec3::ZERO,
             objects: Vec::new(),
+            gradients: Vec::new(),
             settings: GlobalSettings::default(),
             version: None,
         }
     }
 }
 
-impl<'src, const OBJECTS: usize, const LIGHTS: usize> Scene<'src, OBJECTS, LIGHTS> {
-    /// The height-field objects in `field_index` order, with their image
-    /// format and path (the harness loads these).
-    pub fn height_fields(&self) -> impl Iterator<Item = (usize, ImageFormat, &'src str)> + '_ {
+impl<'src, const OBJECTS: usize, const LIGHTS: usize, const GRADIENTS: usize>
+    Scene<'src, OBJECTS, LIGHTS, GRADIENTS>
+{
+    /// A pigment coloured by `gradient`, which joins the scene's pool;
+    /// `None` if the pool is full (or holds 256 already).
+    pub fn gradient_pigment(&mut self, gradient: Gradient) -> Option<Pigment> {
+        let index = u8::try_from(self.gradients.len()).ok()?;
+        self.gradients.push(gradient).ok()?;
+        Some(Pigment {
+            gradient: Some(index),
+            ..Pigment::default()
+        })
+    }
+
+    /// The parsed height-field objects, in file order (which is
+    /// `field_index` order): each one's index, what the file said about it
+    /// and the transform to place it by (the harness builds the fields from
+    /// these).
+    pub fn height_field_sources(
+        &self,
+    ) -> impl Iterator<Item = (usize, HeightFieldSource<'src>, &Transform)> + '_ {
         self.objects.iter().filter_map(|o| match o.shape {
             Shape::HeightField {
-                format,
-                path,
                 field_index,
+                source: Some(source),
                 ..
-            } => Some((field_index, format, path)),
+            } => Some((field_index, source, &o.transform)),
             _ => None,
         })
+    }
+
+    /// Adds a height field built in code: `fields[field_index]` of the
+    /// render, which already carries its placement, water level and
+    /// palette, with `smooth` normals or not, coloured by `pigment` (a
+    /// palette, if the field has one, replaces its colour) and `finish`.
+    /// `None` if the scene is full.
+    pub fn add_height_field(
+        &mut self,
+        field_index: usize,
+        smooth: bool,
+        pigment: Pigment,
+        finish: Finish,
+    ) -> Option<()> {
+        self.objects
+            .push(Object {
+                shape: Shape::HeightField {
+                    field_index,
+                    smooth,
+                    source: None,
+                },
+                transform: Transform::IDENTITY,
+                pigment,
+                finish,
+            })
+            .ok()
     }
 }

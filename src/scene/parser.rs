@@ -15,8 +15,9 @@ use super::error::{Arity, Diagnostic, DiagnosticKind as K, Triple};
 use super::expr::{BinOp, Value};
 use super::lexer::{Lexer, Pos, Token, TokenKind as T};
 use super::model::{
-    CameraDesc, Color, Finish, GlobalSettings, ImageFormat, Light, Object, Pigment, Projection,
-    Scene, Shape,
+    CameraDesc, Color, ColorMap, ColorMapEntry, Finish, GlobalSettings, Gradient,
+    HeightFieldSource, ImageFormat, Light, Object, Pigment, Projection, Scene, Shape,
+    MAX_COLOR_MAP_ENTRIES,
 };
 use crate::transform::Transform;
 
@@ -28,6 +29,12 @@ pub const MAX_DEPTH: usize = 64;
 pub const MAX_DECLARATIONS: usize = 128;
 
 /// Parse settings that come from the command line rather than the file.
+///
+/// The image size has no default: it must be the size the scene is
+/// rendered at (`right x*image_width/image_height` would otherwise stretch
+/// the picture), so build these with
+/// [`RenderSettings::parse_options`](crate::RenderSettings::parse_options)
+/// or [`ParseOptions::new`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParseOptions {
     /// Value of `image_width` in expressions.
@@ -40,12 +47,13 @@ pub struct ParseOptions {
     pub strict: bool,
 }
 
-impl Default for ParseOptions {
-    /// POV-Ray's defaults: 320×240, clock 0, not strict.
-    fn default() -> Self {
+impl ParseOptions {
+    /// Options for an `image_width × image_height` image, clock 0, not
+    /// strict (POV-Ray's defaults for the rest).
+    pub const fn new(image_width: u32, image_height: u32) -> Self {
         ParseOptions {
-            image_width: 320,
-            image_height: 240,
+            image_width,
+            image_height,
             clock: 0.0,
             strict: false,
         }
@@ -59,13 +67,14 @@ type R<'src, V> = Result<V, Diagnostic<'src>>;
 ///
 /// `warn` receives each warning (constructs that are skipped); with
 /// `options.strict` the first such construct is returned as an error
-/// instead. The scene's capacities are `O` objects and `L` lights; running
-/// out is an error ("too many objects (capacity N)").
-pub fn parse_scene<'src, const O: usize, const L: usize>(
+/// instead. The scene's capacities are `O` objects, `L` lights and `G`
+/// gradient pigments; running out is an error ("too many objects
+/// (capacity N)").
+pub fn parse_scene<'src, const O: usize, const L: usize, const G: usize>(
     src: &'src str,
     options: &ParseOptions,
     warn: &mut dyn FnMut(&Diagnostic<'src>),
-) -> Result<Scene<'src, O, L>, Diagnostic<'src>> {
+) -> Result<Scene<'src, O, L, G>, Diagnostic<'src>> {
     parse_scene_located(src, options, warn, &mut |_, _| {})
 }
 
@@ -73,12 +82,12 @@ pub fn parse_scene<'src, const O: usize, const L: usize>(
 /// its index in [`Scene::objects`] and the position of its keyword. A
 /// caller that finds a problem with an object after parsing (its image,
 /// its placement, its shape) can then report it at the object.
-pub fn parse_scene_located<'src, const O: usize, const L: usize>(
+pub fn parse_scene_located<'src, const O: usize, const L: usize, const G: usize>(
     src: &'src str,
     options: &ParseOptions,
     warn: &mut dyn FnMut(&Diagnostic<'src>),
     located: &mut dyn FnMut(usize, Pos),
-) -> Result<Scene<'src, O, L>, Diagnostic<'src>> {
+) -> Result<Scene<'src, O, L, G>, Diagnostic<'src>> {
     let mut lex = Lexer::new(src);
     let tok = lex.next_token()?;
     let mut p = Parser {
@@ -91,7 +100,7 @@ pub fn parse_scene_located<'src, const O: usize, const L: usize>(
         depth: 0,
         version: None,
     };
-    let mut scene = Scene::<'src, O, L>::default();
+    let mut scene = Scene::<'src, O, L, G>::default();
     let mut fields = 0usize;
     // Bound: each iteration consumes at least one token.
     loop {
@@ -124,7 +133,20 @@ pub fn parse_scene_located<'src, const O: usize, const L: usize>(
                     | Kw::Cone
                     | Kw::Triangle),
                 ) => {
-                    if let Some(object) = p.object(kw, fields)? {
+                    if let Some((mut object, gradient)) = p.object(kw, fields)? {
+                        if let Some(gradient) = gradient {
+                            let too_many = D::error(
+                                tok.pos,
+                                K::TooMany {
+                                    what: "gradient pigments",
+                                    capacity: G.min(usize::from(u8::MAX) + 1),
+                                },
+                            );
+                            let index =
+                                u8::try_from(scene.gradients.len()).map_err(|_| too_many)?;
+                            scene.gradients.push(gradient).map_err(|_| too_many)?;
+                            object.pigment.gradient = Some(index);
+                        }
                         let is_field = matches!(object.shape, Shape::HeightField { .. });
                         scene.objects.push(object).map_err(|_| {
                             D::error(
@@ -222,6 +244,8 @@ enum Kw {
     Open,
     Hierarchy,
     QuickColor,
+    Gradient,
+    ColorMap,
     // height-field formats
     Gif,
     Png,
@@ -306,6 +330,9 @@ const KEYWORDS: &[(&str, Kw)] = &[
     ("hierarchy", Kw::Hierarchy),
     ("quick_color", Kw::QuickColor),
     ("quick_colour", Kw::QuickColor),
+    ("gradient", Kw::Gradient),
+    ("color_map", Kw::ColorMap),
+    ("colour_map", Kw::ColorMap),
     ("gif", Kw::Gif),
     ("png", Kw::Png),
     ("pgm", Kw::Pgm),
@@ -1569,7 +1596,14 @@ impl<'src> Parser<'src, '_> {
 
     /// An object block. `None` for a degenerate triangle (dropped with a
     /// warning, as POV-Ray does).
-    fn object(&mut self, kind: Kw, field_index: usize) -> R<'src, Option<Object<'src>>> {
+    /// An object, with its gradient pigment's pattern if it has one (the
+    /// caller adds that to the scene's pool); `None` for a dropped
+    /// degenerate triangle.
+    fn object(
+        &mut self,
+        kind: Kw,
+        field_index: usize,
+    ) -> R<'src, Option<(Object<'src>, Option<Gradient>)>> {
         let obj_pos = self.bump()?.pos;
         let name = shape_name(kind);
         let open = self.open_brace()?;
@@ -1578,12 +1612,14 @@ impl<'src> Parser<'src, '_> {
             Kw::HeightField => {
                 let (format, path) = self.height_field_source()?;
                 Shape::HeightField {
-                    format,
-                    path,
-                    smooth: false,
-                    water_level: 0.0,
-                    palette_colors: false,
                     field_index,
+                    smooth: false,
+                    source: Some(HeightFieldSource {
+                        format,
+                        path,
+                        water_level: 0.0,
+                        palette_colors: false,
+                    }),
                 }
             }
             Kw::Plane => {
@@ -1696,6 +1732,8 @@ impl<'src> Parser<'src, '_> {
             pigment: Pigment::default(),
             finish: Finish::default(),
         };
+        // The pigment's gradient, in object space (pooled by the caller).
+        let mut gradient = None;
         // Bound: each iteration consumes a modifier or `}`.
         loop {
             let tok = self.tok;
@@ -1724,12 +1762,16 @@ impl<'src> Parser<'src, '_> {
             }
             let is_field = matches!(shape, Shape::HeightField { .. });
             match keyword(name_tok) {
-                Some(Kw::Pigment) => self.pigment(&mut obj.pigment)?,
+                Some(Kw::Pigment) => {
+                    self.pigment(&mut obj.pigment, &mut gradient)?;
+                    pull_back(&mut gradient, &obj.transform);
+                }
                 Some(Kw::Finish) => self.finish(&mut obj.finish)?,
-                Some(Kw::Texture) => self.texture(&mut obj)?,
+                Some(Kw::Texture) => self.texture(&mut obj, &mut gradient)?,
                 Some(k) if is_color_keyword(k) => {
                     // The thesis's `COLOR RGB <..>` directly in the object.
                     obj.pigment = pigment_from(self.color("a colour")?.0);
+                    gradient = None;
                 }
                 Some(Kw::ImageMap) => {
                     if !is_field {
@@ -1746,8 +1788,12 @@ impl<'src> Parser<'src, '_> {
                         self.skip_item(name)?;
                     } else {
                         self.bump()?;
-                        if let Shape::HeightField { palette_colors, .. } = &mut shape {
-                            *palette_colors = true;
+                        if let Shape::HeightField {
+                            source: Some(source),
+                            ..
+                        } = &mut shape
+                        {
+                            source.palette_colors = true;
                         }
                     }
                 }
@@ -1791,8 +1837,12 @@ impl<'src> Parser<'src, '_> {
                             },
                         ));
                     }
-                    if let Shape::HeightField { water_level, .. } = &mut shape {
-                        *water_level = w;
+                    if let Shape::HeightField {
+                        source: Some(source),
+                        ..
+                    } = &mut shape
+                    {
+                        source.water_level = w;
                     }
                 }
                 Some(Kw::Hierarchy) => {
@@ -1857,45 +1907,152 @@ impl<'src> Parser<'src, '_> {
             (self.warn)(&D::warning(obj_pos, kind));
             return Ok(None);
         }
-        Ok(Some(obj))
+        Ok(Some((obj, gradient)))
     }
 
-    /// `pigment { .. }`: flat colours; pigment transforms are parsed and
-    /// (having no effect on a flat colour) dropped; anything else is a
-    /// pattern hfray does not implement: warned and the block skipped.
-    fn pigment(&mut self, p: &mut Pigment) -> R<'src, ()> {
+    /// `pigment { .. }`: a flat colour, or `gradient <v>` with an optional
+    /// `color_map` (POV-Ray's black-to-white map without one); the
+    /// pigment's transforms move the gradient (a flat colour is unchanged
+    /// by them). The result is in the coordinates the pigment was written
+    /// in (the caller pulls it back into object space); any other pattern
+    /// is warned about and the block skipped. `gradient` is the pigment's
+    /// pattern (set or cleared with it).
+    fn pigment(&mut self, p: &mut Pigment, gradient: &mut Option<Gradient>) -> R<'src, ()> {
         self.bump()?;
         let open = self.open_brace()?;
+        let mut axis = None;
+        let mut map: Option<(ColorMap, Pos)> = None;
+        let mut moved = Transform::IDENTITY;
         // Bound: each iteration consumes an item or `}`.
         loop {
             let tok = self.tok;
             match tok.kind {
                 T::RBrace => {
                     self.bump()?;
-                    return Ok(());
+                    break;
                 }
                 T::Eof => return Err(D::error(open, K::UnterminatedBlock { block: "pigment" })),
                 T::Hash => self.directive()?,
                 T::Ident(name) => {
                     let kw = keyword(name);
                     let declared = self.lookup(name).is_some() || named_color(name).is_some();
-                    if declared || kw.is_some_and(is_color_keyword) {
+                    if kw == Some(Kw::Gradient) {
+                        self.bump()?;
+                        let (v, pos) = self.vector("the gradient's direction (a 3-vector)")?;
+                        // Normalised in f64, so that `gradient <1e30, 0, 0>` is x.
+                        let v = v.normalize_or_zero().as_vec3();
+                        if v == Vec3::ZERO {
+                            return Err(D::error(
+                                pos,
+                                K::Degenerate {
+                                    what: "gradient (a zero or non-finite direction)",
+                                },
+                            ));
+                        }
+                        axis = Some(v);
+                    } else if kw == Some(Kw::ColorMap) {
+                        map = Some((self.color_map()?, tok.pos));
+                    } else if declared || kw.is_some_and(is_color_keyword) {
                         *p = pigment_from(self.color("a colour")?.0);
-                    } else if self.transform_item()?.is_some() {
+                        *gradient = None;
+                    } else if let Some(t) = self.transform_item()? {
+                        moved = moved.then(&t);
                     } else if kw == Some(Kw::QuickColor) {
                         self.bump()?;
                         self.color("a colour")?;
                     } else {
-                        self.unsupported(tok.pos, name, "pigment (only flat colours)")?;
+                        self.unsupported(
+                            tok.pos,
+                            name,
+                            "pigment (only flat colours and gradient with a color_map)",
+                        )?;
                         return self.skip_rest_of_block(open, "pigment");
                     }
                 }
                 T::Number(_) | T::Lt | T::LParen | T::Minus | T::Plus => {
                     *p = pigment_from(self.color("a colour")?.0);
+                    *gradient = None;
                 }
                 _ => return Err(self.expected("a colour, a pigment transform or `}`")),
             }
         }
+        match (axis, map) {
+            (Some(axis), map) => {
+                let map = map.map_or(ColorMap::GRAY, |(m, _)| m);
+                *gradient = Some(Gradient::along(axis, map).transformed(&moved));
+            }
+            (None, Some((_, at))) => {
+                self.unsupported(at, "color_map", "pigment without a pattern (use gradient)")?;
+            }
+            (None, None) => {}
+        }
+        Ok(())
+    }
+
+    /// `color_map { [value color ..] … }` (also `colour_map`, and a comma
+    /// after the value), values non-decreasing, at most
+    /// [`MAX_COLOR_MAP_ENTRIES`] entries.
+    fn color_map(&mut self) -> R<'src, ColorMap> {
+        self.bump()?;
+        let open = self.open_brace()?;
+        let mut entries: Vec<ColorMapEntry, MAX_COLOR_MAP_ENTRIES> = Vec::new();
+        // Bound: each iteration consumes an entry or `}`.
+        loop {
+            match self.tok.kind {
+                T::RBrace => {
+                    self.bump()?;
+                    break;
+                }
+                T::Eof => return Err(D::error(open, K::UnterminatedBlock { block: "color_map" })),
+                T::Char('[') => {
+                    let at = self.bump()?.pos;
+                    let (value, vpos) = self.float("the entry's value (a float)")?;
+                    let value = to_f32(value, vpos)?;
+                    if matches!(self.tok.kind, T::Comma) {
+                        self.bump()?;
+                    }
+                    let c = self.color("the entry's colour")?.0;
+                    if !matches!(self.tok.kind, T::Char(']')) {
+                        return Err(self.expected("`]` closing the color_map entry"));
+                    }
+                    self.bump()?;
+                    if entries.last().is_some_and(|last| value < last.value) {
+                        return Err(D::error(
+                            vpos,
+                            K::OutOfRange {
+                                what: "color_map entry value",
+                                range: "at least the previous entry's (values must not decrease)",
+                                value: value as f64,
+                            },
+                        ));
+                    }
+                    let entry = ColorMapEntry {
+                        value,
+                        color: rgb(c),
+                        filter: c[3] as f32,
+                        transmit: c[4] as f32,
+                    };
+                    entries.push(entry).map_err(|_| {
+                        D::error(
+                            at,
+                            K::TooMany {
+                                what: "color_map entries",
+                                capacity: MAX_COLOR_MAP_ENTRIES,
+                            },
+                        )
+                    })?;
+                }
+                _ => return Err(self.expected("`[value color ..]` or `}` in the color_map")),
+            }
+        }
+        ColorMap::new(&entries).ok_or_else(|| {
+            D::error(
+                open,
+                K::Degenerate {
+                    what: "color_map (it has no entries)",
+                },
+            )
+        })
     }
 
     fn finish(&mut self, f: &mut Finish) -> R<'src, ()> {
@@ -1977,28 +2134,40 @@ impl<'src> Parser<'src, '_> {
         }
     }
 
-    fn texture(&mut self, obj: &mut Object<'src>) -> R<'src, ()> {
+    fn texture(&mut self, obj: &mut Object<'src>, gradient: &mut Option<Gradient>) -> R<'src, ()> {
         self.bump()?;
         let open = self.open_brace()?;
+        // The texture's own pigment, in the texture's coordinates until `}`.
+        let mut own_pigment = false;
         // Bound: each iteration consumes an item or `}`.
         loop {
             let tok = self.tok;
             match tok.kind {
                 T::RBrace => {
                     self.bump()?;
+                    if own_pigment {
+                        pull_back(gradient, &obj.transform);
+                    }
                     return Ok(());
                 }
                 T::Eof => return Err(D::error(open, K::UnterminatedBlock { block: "texture" })),
                 T::Hash => self.directive()?,
                 T::Ident(name) => match keyword(name) {
-                    Some(Kw::Pigment) => self.pigment(&mut obj.pigment)?,
-                    Some(Kw::Finish) => self.finish(&mut obj.finish)?,
-                    _ => {
-                        // Texture transforms do not change flat colours.
-                        if self.transform_item()?.is_none() {
-                            self.skip_item("texture")?;
-                        }
+                    Some(Kw::Pigment) => {
+                        self.pigment(&mut obj.pigment, gradient)?;
+                        own_pigment = true;
                     }
+                    Some(Kw::Finish) => self.finish(&mut obj.finish)?,
+                    _ => match self.transform_item()? {
+                        // A texture transform moves the pigment written
+                        // before it (flat colours do not change).
+                        Some(t) => {
+                            if let Some(g) = gradient.as_mut().filter(|_| own_pigment) {
+                                *g = g.transformed(&t);
+                            }
+                        }
+                        None => self.skip_item("texture")?,
+                    },
                 },
                 _ => return Err(self.expected("pigment, finish or `}` in the texture")),
             }
@@ -2047,5 +2216,15 @@ fn pigment_from(c: [f64; 5]) -> Pigment {
         color: rgb(c),
         filter: c[3] as f32,
         transmit: c[4] as f32,
+        gradient: None,
+    }
+}
+
+/// A pigment written after the transforms `so_far` of its object, brought
+/// into the object's space (POV-Ray: those transforms do not move it; the
+/// object's later ones do, since they move the object's space).
+fn pull_back(gradient: &mut Option<Gradient>, so_far: &Transform) {
+    if let Some(g) = gradient {
+        *g = g.pulled_back(so_far);
     }
 }

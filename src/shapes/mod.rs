@@ -15,9 +15,7 @@
 //! Height fields are not stored in the scene: an object's
 //! `Shape::HeightField { field_index, .. }` refers to the caller's
 //! `fields[field_index]`, which carries its own transform, water level and
-//! palette. **The field's transform wins**; the caller builds each field
-//! with `.with_transform(object.transform)` (the renderer checks that they
-//! agree, see [`render`](mod@crate::render)).
+//! palette; the object's transform is not used for it.
 
 pub mod aabb;
 pub mod cone;
@@ -81,6 +79,8 @@ impl core::fmt::Display for ShapeError {
         })
     }
 }
+
+impl core::error::Error for ShapeError {}
 
 /// Real roots of `a·t² + 2·b·t + c = 0` in the numerically stable form.
 /// With `a = 0` one root is the linear solution `−c / 2b` and the other is
@@ -451,12 +451,9 @@ mod tests {
             Err(ShapeError::Sphere)
         );
         let hf = Shape::HeightField {
-            format: crate::scene::ImageFormat::Pgm,
-            path: "x.pgm",
-            smooth: false,
-            water_level: 0.0,
-            palette_colors: false,
             field_index: 3,
+            smooth: false,
+            source: None,
         };
         assert_eq!(
             intersect(&hf, &Transform::IDENTITY, &[], &ray, 0.0, 1.0),

@@ -5,9 +5,7 @@
 use std::ops::ControlFlow;
 
 use hfray::glam::{DVec3, Vec3};
-use hfray::scene::{
-    CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Projection, Scene, Shape,
-};
+use hfray::scene::{CameraDesc, Finish, Light, Object, Pigment, Projection, Scene, Shape};
 use hfray::{render, HeightField, LinearRgb, Pixel, RenderSettings, Stats, Transform};
 
 pub type TestScene = Scene<'static, 8, 4>;
@@ -163,11 +161,8 @@ pub fn island_land_and_sea() -> ([Object<'static>; 2], Transform) {
     let t = Transform::scale(DVec3::new(1.0, 0.35, 1.0)).unwrap();
     let land = Object {
         shape: Shape::HeightField {
-            format: ImageFormat::Pgm,
-            path: "island.pgm",
+            source: None,
             smooth: true,
-            water_level: 0.1,
-            palette_colors: false,
             field_index: 0,
         },
         transform: t,

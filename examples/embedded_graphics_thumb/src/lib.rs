@@ -7,7 +7,7 @@
 #![forbid(unsafe_code)]
 
 use hfray::glam::{DVec3, Vec3};
-use hfray::scene::{CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Scene, Shape};
+use hfray::scene::{CameraDesc, Finish, Light, Object, Pigment, Scene, Shape};
 use hfray::sink::embedded_graphics_core::draw_target::DrawTarget;
 use hfray::sink::embedded_graphics_core::geometry::{OriginDimensions, Point, Size};
 use hfray::sink::embedded_graphics_core::pixelcolor::{IntoStorage, Rgb565 as EgRgb565};
@@ -116,7 +116,7 @@ pub fn render_frame(panel: &mut SpiPanel<Bus<'_>>) -> Result<Stats, FrameError> 
     let field = HeightField::new(Samples::U8(&TERRAIN), 8, 8, HeightConvention::Indexed)
         .map_err(|_| FrameError::Scene)?;
     let fields = [field.with_transform(place)];
-    let mut scene: Scene<'static, 1, 1> = Scene {
+    let mut scene: Scene<'static, 1, 1, 0> = Scene {
         camera: CameraDesc {
             location: Vec3::new(0.0, 1.4, -2.4),
             look_at: Vec3::new(0.0, 0.15, 0.0),
@@ -132,11 +132,8 @@ pub fn render_frame(panel: &mut SpiPanel<Bus<'_>>) -> Result<Stats, FrameError> 
     };
     let terrain = Object {
         shape: Shape::HeightField {
-            format: ImageFormat::Gif,
-            path: "",
+            source: None,
             smooth: true,
-            water_level: 0.0,
-            palette_colors: false,
             field_index: 0,
         },
         transform: place,

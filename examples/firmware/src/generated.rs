@@ -35,6 +35,6 @@ pub fn thesis_field(out: &mut [u8]) -> Result<(), hfray::generate::GenerateError
 
 /// The skip pyramid every firmware field is walked through: fan-out 4
 /// (4-, 16-, 64-cell blocks, as deep as `SkipLayout::pyramid` goes).
-pub fn skip_layout(width: u32, depth: u32) -> hfray::SkipLayout {
+pub const fn skip_layout(width: u32, depth: u32) -> hfray::SkipLayout {
     hfray::SkipLayout::pyramid(width, depth, 2)
 }

@@ -31,9 +31,7 @@ use core::ops::ControlFlow;
 
 use hfray::glam::{DVec3, Vec3};
 use hfray::heightfield::HeightFieldError;
-use hfray::scene::model::{
-    CameraDesc, Finish, ImageFormat, Light, Object, Pigment, Projection, Scene, Shape,
-};
+use hfray::scene::model::{CameraDesc, Finish, Light, Object, Pigment, Projection, Scene, Shape};
 use hfray::transform::TransformError;
 use hfray::{
     Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb565, Rgb888,
@@ -77,8 +75,9 @@ pub const OBJECTS: usize = 2;
 #[cfg(not(feature = "primitives"))]
 pub const OBJECTS: usize = 1;
 
-/// The scene model type: [`OBJECTS`] objects, one light.
-pub type FirmwareScene = Scene<'static, OBJECTS, 1>;
+/// The scene model type: [`OBJECTS`] objects, one light, no gradient
+/// pigments (so no colour maps on the stack).
+pub type FirmwareScene = Scene<'static, OBJECTS, 1, 0>;
 
 /// Which scene to render. Every variant has the same camera, light and
 /// frame size; only objects, finishes and `max_trace_level` differ.
@@ -392,11 +391,8 @@ pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
         .objects
         .push(Object {
             shape: Shape::HeightField {
-                format: ImageFormat::Png,
-                path: "field",
+                source: None,
                 smooth: look.smooth,
-                water_level: 0.0,
-                palette_colors: false,
                 field_index: 0,
             },
             transform,
@@ -437,14 +433,22 @@ pub fn build_scene(variant: Variant) -> Result<FirmwareScene, SceneError> {
     Ok(scene)
 }
 
-/// Bytes of the `base` field's skip pyramid ([`SkipLayout::pyramid`] with
-/// fan-out 4: 4- and 16-cell blocks): a 16-byte header and
-/// `2 × (22·15 + 6·4)` bytes of block bounds.
-pub const SKIP_BYTES: usize = 724;
-/// Bytes of the `lcd` field's pyramid: `16 + 2 × (38·47 + 10·12)`.
-pub const LCD_SKIP_BYTES: usize = 3_828;
-/// Bytes of the `thesis` field's pyramid: `16 + 2 × (128² + 32² + 8²)`.
-pub const THESIS_SKIP_BYTES: usize = 34_960;
+/// Bytes of a `width × depth` field's skip pyramid ([`skip_layout`]),
+/// computed from the layout at compile time.
+const fn pyramid_bytes(width: u32, depth: u32) -> usize {
+    match SkipGrid::bytes_needed(width, depth, 1, skip_layout(width, depth)) {
+        Ok(bytes) => bytes,
+        Err(_) => panic!("invalid skip layout"),
+    }
+}
+
+/// Bytes of the `base` field's skip pyramid (724: a 16-byte header and
+/// `2 × (22·15 + 6·4)` bytes of block bounds).
+pub const SKIP_BYTES: usize = pyramid_bytes(FIELD_WIDTH, FIELD_DEPTH);
+/// Bytes of the `lcd` field's pyramid (3,828: `16 + 2 × (38·47 + 10·12)`).
+pub const LCD_SKIP_BYTES: usize = pyramid_bytes(LCD_FIELD_WIDTH, LCD_FIELD_DEPTH);
+/// Bytes of the `thesis` field's pyramid (34,960: `16 + 2 × (128² + 32² + 8²)`).
+pub const THESIS_SKIP_BYTES: usize = pyramid_bytes(THESIS_SIDE, THESIS_SIDE);
 
 /// Where a field's skip pyramid comes from.
 pub enum Pyramid<'a> {
@@ -504,7 +508,6 @@ pub fn render_error_name(e: &RenderError) -> &'static str {
         RenderError::Camera(_) => "Camera",
         RenderError::Shape { .. } => "Shape",
         RenderError::MissingField { .. } => "MissingField",
-        RenderError::FieldMismatch { .. } => "FieldMismatch",
         _ => "Settings",
     }
 }
