@@ -383,7 +383,17 @@ mod fixed_point {
             x ^= x << 5;
             x
         };
-        let edges = [0, 1, -1, i32::MAX, i32::MIN, 1 << 16, -(1 << 16), 0x7fff, -0x8000];
+        let edges = [
+            0,
+            1,
+            -1,
+            i32::MAX,
+            i32::MIN,
+            1 << 16,
+            -(1 << 16),
+            0x7fff,
+            -0x8000,
+        ];
         let mut values = heapless::Vec::<i32, 2100>::new();
         values.extend_from_slice(&edges).unwrap();
         for _ in 0..2000 {
