@@ -768,32 +768,6 @@ mod tests {
     }
 
     #[test]
-    fn q16_product_is_i16f16_saturating_mul() {
-        use fixed::types::I16F16;
-        let mut x = 0x1234_5678u32;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x
-        };
-        let edges = [0, 1, -1, i32::MAX, i32::MIN, ONE16, -ONE16, 0x7fff, -0x8000];
-        let mut values = heapless::Vec::<i32, 2100>::new();
-        values.extend_from_slice(&edges).unwrap();
-        for _ in 0..2000 {
-            let v = next();
-            // All magnitudes: shift by 0..31 bits.
-            values.push((v as i32) >> (next() % 32)).unwrap();
-        }
-        for &a in &values {
-            for &b in values.iter().step_by(7) {
-                let want = I16F16::from_bits(a).saturating_mul(I16F16::from_bits(b));
-                assert_eq!((q16(a) * q16(b)).0, want, "{a} * {b}");
-            }
-        }
-    }
-
-    #[test]
     fn quadrant_normals_are_unit_normals() {
         for (a, b) in [
             (0, 0),
