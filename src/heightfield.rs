@@ -656,7 +656,7 @@ impl<'a> HeightField<'a> {
         )?;
         let mut fh = self.finish_hit(ray, &hit);
         fh.t = ((hit.t.to_f64() + start) * sigma) as f32;
-        fh.point = ray.at(fh.t);
+        fh.point = self.hit_point(ray, fh.t, fh.object_point);
         Some(fh)
     }
 
@@ -750,6 +750,23 @@ impl<'a> HeightField<'a> {
         }
     }
 
+    /// A hit's world point: `ray.at(t)`, or, when that overflows, the
+    /// object point placed in the world. A hit is in the field's box, so
+    /// its point is finite, but an origin near `±f32::MAX` can make `t·d`
+    /// round past `f32::MAX` (fuzz: origin `y = f32::MIN` straight up), and
+    /// `t` itself then carries an error of that size. The same bits as
+    /// `ray.at(t)` whenever that is finite.
+    fn hit_point(&self, ray: &Ray, t: f32, object_point: Vec3) -> Vec3 {
+        let p = ray.at(t);
+        if p.is_finite() {
+            return p;
+        }
+        self.transform
+            .to_world()
+            .transform_point3(object_point.as_dvec3())
+            .as_vec3()
+    }
+
     /// Completes a grid hit into a world-space [`FieldHit`].
     pub fn finish_hit<S: Real>(&self, ray: &Ray, hit: &GridHit<S>) -> FieldHit {
         let t = hit.t.to_f32();
@@ -762,7 +779,7 @@ impl<'a> HeightField<'a> {
         );
         FieldHit {
             t,
-            point: ray.at(t),
+            point: self.hit_point(ray, t, object_point),
             object_point,
             cell_x: hit.cell_x,
             cell_z: hit.cell_z,

@@ -409,3 +409,31 @@ fn objects_found_bad_after_parsing_had_no_position() {
     assert_eq!(scene.objects.len(), 3);
     assert_eq!(at, [(0, 1, 1), (1, 2, 3), (2, 4, 1)]);
 }
+
+/// Fuzz (`intersect`, session 3): a ray from `y = f32::MIN` straight up
+/// hit the field, but its point came out as `y = inf`, because `t·d_y`
+/// rounded past `f32::MAX` before the origin was added back.
+#[test]
+fn hit_from_an_origin_at_f32_min_has_a_finite_point() {
+    use hfray::glam::Vec3;
+    use hfray::{HeightConvention, HeightField, Ray, Samples};
+    let samples = [0u8; 9];
+    let field = HeightField::new(Samples::U8(&samples), 3, 3, HeightConvention::Gray8).unwrap();
+    // The fuzz input's ray: on the field's corner, straight up.
+    let ray = Ray::new(
+        Vec3::new(-1e-45, f32::MIN, -0.0),
+        Vec3::new(-1e-45, 511.984_38, -1e-45),
+    );
+    let hit = field
+        .intersect(&ray, 0.0, f32::INFINITY)
+        .expect("straight up through the field");
+    assert!(
+        hit.point.is_finite(),
+        "point {:?} at t {}",
+        hit.point,
+        hit.t
+    );
+    // On the flat field at height 0: the object point, placed (identity).
+    assert_eq!(hit.point, hit.object_point);
+    assert_eq!(hit.point.y, 0.0);
+}
