@@ -265,7 +265,14 @@ fuzz_target!(|input: Input| {
             let k = i * 3;
             [seed[k % 8], seed[(k + 1) % 8].wrapping_add(i as u8), seed[(k + 2) % 8]]
         });
-        field = field.with_palette(&palette).expect("8-bit samples");
+        // A palette needs 8-bit samples: refused on a 16-bit field.
+        match field.clone().with_palette(&palette) {
+            Ok(f) => {
+                assert!(matches!(samples, Samples::U8(_)));
+                field = f;
+            }
+            Err(_) => assert!(matches!(samples, Samples::U16(_))),
+        }
     }
     let mut transform = Transform::IDENTITY;
     for op in input.ops.iter().take(4) {
