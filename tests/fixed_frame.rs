@@ -9,16 +9,25 @@ use hfray::render::FixedLimit;
 use hfray::scene::model::Shape;
 use hfray::{RenderError, RenderSettings, Rgb888};
 
-/// Renders `model` with both frames; returns the two byte frames.
-fn both(model: &scene::FirmwareScene) -> (Vec<u8>, Vec<u8>) {
-    let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = [scene::build_field(
+/// The base scene's field (object 0's placement) over the flash samples,
+/// its pyramid built into `skip`.
+fn base_field<'a>(
+    model: &scene::FirmwareScene,
+    skip: &'a mut [u8; scene::SKIP_BYTES],
+) -> hfray::HeightField<'a> {
+    scene::build_field(
         model,
         &scene::FIELD_SAMPLES,
         (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
-        scene::Pyramid::Build(&mut skip),
+        scene::Pyramid::Build(skip),
     )
-    .unwrap()];
+    .unwrap()
+}
+
+/// Renders `model` with both frames; returns the two byte frames.
+fn both(model: &scene::FirmwareScene) -> (Vec<u8>, Vec<u8>) {
+    let mut skip = [0u8; scene::SKIP_BYTES];
+    let fields = [base_field(model, &mut skip)];
     let mut frames = [Vec::new(), Vec::new()];
     for (frame, out) in [scene::Frame::Float, scene::Frame::Fixed]
         .into_iter()
@@ -117,13 +126,7 @@ fn orthographic_camera_is_within_the_error_targets() {
 fn mirror_scene_is_refused_not_drawn() {
     let model = scene::build_scene(scene::Variant::Reflect { level: 1 }).unwrap();
     let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = [scene::build_field(
-        &model,
-        &scene::FIELD_SAMPLES,
-        (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
-        scene::Pyramid::Build(&mut skip),
-    )
-    .unwrap()];
+    let fields = [base_field(&model, &mut skip)];
     let mut line = [Rgb888::default(); scene::WIDTH];
     let r = scene::render(
         scene::Frame::Fixed,
@@ -145,13 +148,7 @@ fn mirror_scene_is_refused_not_drawn() {
 fn anti_aliasing_is_refused() {
     let model = scene::build_scene(scene::Variant::Base).unwrap();
     let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = [scene::build_field(
-        &model,
-        &scene::FIELD_SAMPLES,
-        (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
-        scene::Pyramid::Build(&mut skip),
-    )
-    .unwrap()];
+    let fields = [base_field(&model, &mut skip)];
     let settings = RenderSettings::new(scene::WIDTH as u32, scene::HEIGHT as u32).with_aa(2);
     let mut line = [Rgb888::default(); scene::WIDTH];
     let r = hfray::fixed_frame::render(&model, &fields, &settings, &mut line, &mut |_, _| {
@@ -170,13 +167,7 @@ fn far_camera_is_refused_with_range() {
     let mut model = scene::build_scene(scene::Variant::Base).unwrap();
     model.camera.location = hfray::glam::Vec3::new(0.0, 1.0e4, -1.0e4);
     let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = [scene::build_field(
-        &model,
-        &scene::FIELD_SAMPLES,
-        (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
-        scene::Pyramid::Build(&mut skip),
-    )
-    .unwrap()];
+    let fields = [base_field(&model, &mut skip)];
     let mut line = [Rgb888::default(); scene::WIDTH];
     let r = scene::render(
         scene::Frame::Fixed,
@@ -202,15 +193,9 @@ fn palette_coloured_field_is_within_the_error_targets() {
     let palette: [[u8; 3]; 256] =
         core::array::from_fn(|i| [i as u8, (96 + i / 2) as u8, (255 - i) as u8 / 2]);
     let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = [scene::build_field(
-        &model,
-        &scene::FIELD_SAMPLES,
-        (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
-        scene::Pyramid::Build(&mut skip),
-    )
-    .unwrap()
-    .with_palette(&palette)
-    .unwrap()];
+    let fields = [base_field(&model, &mut skip)
+        .with_palette(&palette)
+        .unwrap()];
     let mut frames = [Vec::new(), Vec::new()];
     for (frame, out) in [scene::Frame::Float, scene::Frame::Fixed]
         .into_iter()
