@@ -160,6 +160,9 @@ pub struct HeightField<'a> {
     /// Inverse transpose of the grid-to-world linear map, scaled by a power
     /// of two: carries grid-space normal directions to world space.
     normal_matrix: glam::Mat3,
+    /// `normal_matrix` has no off-diagonal entry (a field scaled, not
+    /// turned): normals are carried by three products.
+    normal_diagonal: bool,
     skip: Option<SkipGrid<'a>>,
     traversal: Traversal,
     numeric: Numeric,
@@ -246,6 +249,7 @@ impl<'a> HeightField<'a> {
             transform: Transform::IDENTITY,
             world_to_grid: GridTransform::IDENTITY,
             normal_matrix: glam::Mat3::IDENTITY,
+            normal_diagonal: true,
             skip: None,
             traversal: Traversal::default(),
             numeric: Numeric::default(),
@@ -395,6 +399,12 @@ impl<'a> HeightField<'a> {
                 1.0 / (self.depth - 1) as f64,
             ));
         self.normal_matrix = crate::transform::normal_matrix(&g2w);
+        let m = self.normal_matrix;
+        self.normal_diagonal = [
+            m.x_axis.y, m.x_axis.z, m.y_axis.x, m.y_axis.z, m.z_axis.x, m.z_axis.y,
+        ]
+        .iter()
+        .all(|&c| c == 0.0);
     }
 
     /// Samples per row.
@@ -811,8 +821,17 @@ impl<'a> HeightField<'a> {
 
     /// Converts a grid-space normal `(-dh/du, 1, -dh/dv)` to a unit world
     /// normal (inverse transpose of the grid-to-world map).
+    /// The same as the full product for a diagonal matrix: `a·x + 0·y + 0·z`
+    /// is `a·x` for finite `y`, `z` (up to the sign of a zero).
+    #[inline(always)]
     fn grid_normal_to_world(&self, n: Vec3) -> Vec3 {
-        crate::transform::unit_direction(self.normal_matrix * n)
+        let m = &self.normal_matrix;
+        let w = if self.normal_diagonal {
+            Vec3::new(m.x_axis.x * n.x, m.y_axis.y * n.y, m.z_axis.z * n.z)
+        } else {
+            *m * n
+        };
+        crate::transform::unit_direction(w)
     }
 
     /// Unit geometric normal of triangle `tri` of cell `(x, z)` in world
@@ -855,52 +874,135 @@ impl<'a> HeightField<'a> {
         if !self.has_cell(x, z) {
             return hit.normal;
         }
-        let around = Neighbourhood::new(self, x, z);
-        let n00 = self.vertex_normal_world(&around, 0, 0);
-        let n10 = self.vertex_normal_world(&around, 1, 0);
-        let n01 = self.vertex_normal_world(&around, 0, 1);
-        let n11 = self.vertex_normal_world(&around, 1, 1);
+        let [n00, n10, n01, n11] = self.vertex_normals_world(x, z);
         let (u, v) = (1.0 - fu, 1.0 - fv);
         let n = (n00 * u + n10 * fu) * v + (n01 * u + n11 * fu) * fv;
         crate::math::normalize_or_zero(n)
     }
 
-    /// Vertex `(x + a, z + b)` of the neighbourhood's cell: its normal as
-    /// POV-Ray stores it (raw field space, quantised to `i16` steps), carried
-    /// to world space and normalised.
-    fn vertex_normal_world(&self, around: &Neighbourhood, a: usize, b: usize) -> Vec3 {
-        let (i, j) = (a + 1, b + 1);
-        let h0 = around.height[j][i];
-        // One of POV-Ray's quadrants: `(-du, 1, -dv)` normalised, where `du`,
-        // `dv` are the height steps along its two edges, signed by its
-        // direction; zero for a quadrant reaching past the grid's edge.
-        // `(h − h0) · s` for a step `s` of ±1 is `h − h0` or `h0 − h`,
-        // exactly. Called with constant steps, so it unrolls.
-        let quadrant = |step_x: usize, step_z: usize, up_x: bool, up_z: bool| {
-            // In 0..4 (`i`, `j` are 1 or 2); `& 3` tells the compiler so.
-            let (xi, zj) = (i.wrapping_add(step_x) & 3, j.wrapping_add(step_z) & 3);
-            if !(around.inside_x[xi] && around.inside_z[zj]) {
-                return Vec3::ZERO;
-            }
-            let (hx, hz) = (around.height[j][xi], around.height[zj][i]);
-            let du = if up_x { hx - h0 } else { h0 - hx };
-            let dv = if up_z { hz - h0 } else { h0 - hz };
-            crate::math::normalize(Vec3::new(-du, 1.0, -dv))
+    /// The normals of cell `(x, z)`'s vertices `(x, z)`, `(x + 1, z)`,
+    /// `(x, z + 1)`, `(x + 1, z + 1)` as POV-Ray stores them (raw field
+    /// space, quantised to `i16` steps), carried to world space and
+    /// normalised.
+    ///
+    /// The four vertices share their 4 × 4 neighbourhood: its 12 heights
+    /// are read once, and each of the 12 edges between them is differenced
+    /// and squared once; each vertex then needs only its four quadrants'
+    /// square roots. The arithmetic is POV-Ray's per-quadrant formula in
+    /// the same `f32` operations and order, so the result is bit for bit
+    /// that of normalising each quadrant's `(-du, 1, -dv)` on its own
+    /// (`smooth_normal_shares_work_bit_for_bit`). Written out straight,
+    /// without loops over arrays: the firmware builds at `opt-level = "s"`,
+    /// which would keep the loops and the arrays in memory.
+    #[inline(always)]
+    fn vertex_normals_world(&self, x: u32, z: u32) -> [Vec3; 4] {
+        // Rows v − 1 ..= v + 2 and columns u − 1 ..= u + 2 of the cell's
+        // neighbourhood, clamped to the grid: a clamped sample repeats its
+        // neighbour, so the step to it is 0 (finite; left out below).
+        let raw = match self.samples {
+            Samples::U8(s) => self.neighbourhood(s, x, z),
+            Samples::U16(s) => self.neighbourhood(s, x, z),
         };
-        // POV-Ray's order: (+x, +z), (+z, -x), (-x, -z), (-z, +x); a step
-        // of −1 is `usize::MAX` (wrapping). Adding a zero changes no sum.
-        let back = usize::MAX;
-        let sum = quadrant(1, 1, true, true)
-            + quadrant(back, 1, false, true)
-            + quadrant(back, back, false, false)
-            + quadrant(1, back, true, false);
-        let n = crate::math::normalize_or_zero(sum);
+        let [[_, s1, s2, _], [a0, a1, a2, a3], [b0, b1, b2, b3], [_, n1, n2, _]] = raw;
+        let units = self.units_per_sample() as f32;
+        // Height steps in units of 1/65536, exact (|step| < 2^16): `ua_k`
+        // along +u in row a (the cell's lower row) from column k to k + 1,
+        // `vk_j` along +v in column k from row j to j + 1 (rows s, a, b, n).
+        let step = |to: i32, from: i32| (to - from) as f32 * units;
+        let (ua0, ua1, ua2) = (step(a1, a0), step(a2, a1), step(a3, a2));
+        let (ub0, ub1, ub2) = (step(b1, b0), step(b2, b1), step(b3, b2));
+        let (v10, v11, v12) = (step(a1, s1), step(b1, a1), step(n1, b1));
+        let (v20, v21, v22) = (step(a2, s2), step(b2, a2), step(n2, b2));
+        // A quadrant's `|(-du, 1, -dv)|²` is `(du² + 1) + dv²`, in the
+        // order glam's dot product adds it. An edge reaching past the
+        // grid gets an infinite square: each quadrant on it then has
+        // `1 / √∞ = 0` as its length's reciprocal and adds a zero vector,
+        // which changes no sum (POV-Ray leaves such quadrants out).
+        let outside = |edge_inside: bool, sq: f32| if edge_inside { sq } else { f32::INFINITY };
+        let (west, east) = (x > 0, x + 2 < self.width);
+        let (south, north) = (z > 0, z + 2 < self.depth);
+        let sq1 = |d: f32| d * d + 1.0;
+        let (ua0q, ua1q, ua2q) = (outside(west, sq1(ua0)), sq1(ua1), outside(east, sq1(ua2)));
+        let (ub0q, ub1q, ub2q) = (outside(west, sq1(ub0)), sq1(ub1), outside(east, sq1(ub2)));
+        let (v10q, v11q, v12q) = (
+            outside(south, v10 * v10),
+            v11 * v11,
+            outside(north, v12 * v12),
+        );
+        let (v20q, v21q, v22q) = (
+            outside(south, v20 * v20),
+            v21 * v21,
+            outside(north, v22 * v22),
+        );
+        // Each vertex: steps (right, left) along u, (up, down) along v.
+        [
+            self.vertex_normal_world([ua1, ua0], [v11, v10], [ua1q, ua0q], [v11q, v10q]),
+            self.vertex_normal_world([ua2, ua1], [v21, v20], [ua2q, ua1q], [v21q, v20q]),
+            self.vertex_normal_world([ub1, ub0], [v12, v11], [ub1q, ub0q], [v12q, v11q]),
+            self.vertex_normal_world([ub2, ub1], [v22, v21], [ub2q, ub1q], [v22q, v21q]),
+        ]
+    }
+
+    /// One vertex of [`vertex_normals_world`](Self::vertex_normals_world):
+    /// its height steps to the right and left (`du`) and up and down
+    /// (`dv`), with `du² + 1` and `dv²` of each.
+    #[inline(always)]
+    fn vertex_normal_world(
+        &self,
+        [right, left]: [f32; 2],
+        [up, down]: [f32; 2],
+        [right_sq1, left_sq1]: [f32; 2],
+        [up_sq, down_sq]: [f32; 2],
+    ) -> Vec3 {
+        let rcp = |du_sq1: f32, dv_sq: f32| 1.0 / crate::math::sqrtf(du_sq1 + dv_sq);
+        // POV-Ray's order: (+u, +v), (−u, +v), (−u, −v), (+u, −v).
+        let r1 = rcp(right_sq1, up_sq);
+        let r2 = rcp(left_sq1, up_sq);
+        let r3 = rcp(left_sq1, down_sq);
+        let r4 = rcp(right_sq1, down_sq);
+        // The sum of the unit quadrant normals `(-du, 1, -dv) · r`, added
+        // in order, component by component.
+        let sum = Vec3::new(
+            -right * r1 + -left * r2 + -left * r3 + -right * r4,
+            r1 + r2 + r3 + r4,
+            -up * r1 + -up * r2 + -down * r3 + -down * r4,
+        );
+        // `sum.y` is at least one quadrant's `r` (> 1e-5) and `|sum| <= 4`:
+        // the plain normalisation is `normalize_or_zero`'s.
+        let n = crate::math::normalize(sum);
         // C's (short) conversion truncates towards zero. `32767 · c` is
-        // within ±32767.01 (`n` is unit or zero), where `as i32` truncates
-        // the same and is one instruction (`as i16` adds its saturation).
+        // within ±32767.01 (`n` is unit), where `as i32` truncates the same
+        // and is one instruction on ARM (`as i16` adds its saturation).
         let q = |c: f32| (32767.0 * c) as i32 as f32;
         // Raw → grid space scales y by 1/65536; normals take the inverse.
         self.grid_normal_to_world(Vec3::new(q(n.x), q(n.y) * 65536.0, q(n.z)))
+    }
+
+    /// The raw samples around cell `(x, z)`: `[j][i]` is vertex
+    /// `(x − 1 + i, z − 1 + j)` clamped to the grid; the four corners,
+    /// no vertex's neighbours, are left 0.
+    #[inline(always)]
+    fn neighbourhood<T: Copy + Into<i32>>(&self, samples: &[T], x: u32, z: u32) -> [[i32; 4]; 4] {
+        let w = self.width as usize;
+        // Grid row z is image row depth − 1 − z.
+        let row = |zj: u32| {
+            let start = (self.depth - 1 - zj) as usize * w;
+            &samples[start..start + w]
+        };
+        let (west, east) = (
+            x.saturating_sub(1) as usize,
+            (x + 2).min(self.width - 1) as usize,
+        );
+        let (x0, x1) = (x as usize, x as usize + 1);
+        let (s, a) = (row(z.saturating_sub(1)), row(z));
+        let (b, n) = (row(z + 1), row((z + 2).min(self.depth - 1)));
+        let at = |r: &[T], i: usize| r[i].into();
+        [
+            [0, at(s, x0), at(s, x1), 0],
+            [at(a, west), at(a, x0), at(a, x1), at(a, east)],
+            [at(b, west), at(b, x0), at(b, x1), at(b, east)],
+            [0, at(n, x0), at(n, x1), 0],
+        ]
     }
 
     /// The thesis's palette colouring: the mean of the palette colours of
@@ -951,45 +1053,6 @@ impl<'a> HeightField<'a> {
     }
 }
 
-/// The heights around one cell, read once for its four vertex normals:
-/// the 4 × 4 vertices `x − 1 ..= x + 2` by `z − 1 ..= z + 2` (the corners
-/// are never needed and not read), in height units (1/65536) as `f32`
-/// (exact: at most 2^24). Rows and columns past the grid's edge are marked
-/// outside; their heights are placeholders.
-struct Neighbourhood {
-    /// `height[j][i]`: vertex `(x − 1 + i, z − 1 + j)`.
-    height: [[f32; 4]; 4],
-    /// Column `x − 1 + i` is in the grid.
-    inside_x: [bool; 4],
-    /// Row `z − 1 + j` is in the grid.
-    inside_z: [bool; 4],
-}
-
-impl Neighbourhood {
-    /// The neighbourhood of cell `(x, z)`, which must be in the grid.
-    #[inline(always)]
-    fn new(field: &HeightField<'_>, x: u32, z: u32) -> Self {
-        let last = |i: u32, n: u32| i.min(n - 1);
-        let xs = [x.saturating_sub(1), x, x + 1, last(x + 2, field.width)];
-        let zs = [z.saturating_sub(1), z, z + 1, last(z + 2, field.depth)];
-        let at = |i: usize, j: usize| field.height_units(xs[i], zs[j]) as f32;
-        let mut height = [[0.0; 4]; 4];
-        for (j, row) in height.iter_mut().enumerate() {
-            for (i, h) in row.iter_mut().enumerate() {
-                // The four corners are no vertex's neighbours.
-                if !((i == 0 || i == 3) && (j == 0 || j == 3)) {
-                    *h = at(i, j);
-                }
-            }
-        }
-        Neighbourhood {
-            height,
-            inside_x: [x > 0, true, true, x + 2 < field.width],
-            inside_z: [z > 0, true, true, z + 2 < field.depth],
-        }
-    }
-}
-
 trait IntoU32Pair {
     fn into_u32(self) -> (u32, u32);
 }
@@ -1001,5 +1064,107 @@ impl IntoU32Pair for (u8, u8) {
 impl IntoU32Pair for (u16, u16) {
     fn into_u32(self) -> (u32, u32) {
         (self.0 as u32, self.1 as u32)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// POV-Ray's smooth normal written out one quadrant and one vertex at a
+    /// time, as `HField::Normal` and `smooth_height_field` compute it (in
+    /// `f32`): the reference the shared computation must equal.
+    fn smooth_normal_one_vertex_at_a_time(field: &HeightField<'_>, hit: &FieldHit) -> Vec3 {
+        let (w, d) = (field.width() as i64, field.depth() as i64);
+        let h = |x: i64, z: i64| field.height_units(x as u32, z as u32) as f32;
+        let vertex = |x: i64, z: i64| {
+            let h0 = h(x, z);
+            let mut sum = Vec3::ZERO;
+            for (sx, sz) in [(1, 1), (-1, 1), (-1, -1), (1, -1)] {
+                let (nx, nz) = (x + sx, z + sz);
+                if nx < 0 || nz < 0 || nx >= w || nz >= d {
+                    continue;
+                }
+                let du = (h(nx, z) - h0) * sx as f32;
+                let dv = (h(x, nz) - h0) * sz as f32;
+                sum += crate::math::normalize(Vec3::new(-du, 1.0, -dv));
+            }
+            let n = crate::math::normalize_or_zero(sum);
+            let q = |c: f32| (32767.0 * c) as i32 as f32;
+            field.grid_normal_to_world(Vec3::new(q(n.x), q(n.y) * 65536.0, q(n.z)))
+        };
+        let (x, z) = (hit.cell_x as i64, hit.cell_z as i64);
+        let (fu, fv) = hit.local;
+        let (u, v) = (1.0 - fu, 1.0 - fv);
+        let n = (vertex(x, z) * u + vertex(x + 1, z) * fu) * v
+            + (vertex(x, z + 1) * u + vertex(x + 1, z + 1) * fu) * fv;
+        crate::math::normalize_or_zero(n)
+    }
+
+    fn lcg(state: &mut u64) -> u32 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*state >> 33) as u32
+    }
+
+    #[test]
+    fn smooth_normal_shares_work_bit_for_bit() {
+        let mut rng = 0x5eed_u64;
+        let u8s: [u8; 9 * 7] = core::array::from_fn(|_| lcg(&mut rng) as u8);
+        let u16s: [u16; 6 * 9] = core::array::from_fn(|_| lcg(&mut rng) as u16);
+        let cliff: [u16; 5 * 5] = core::array::from_fn(|i| if i % 2 == 0 { 0 } else { 65535 });
+        let tilted = Transform::builder()
+            .scale(DVec3::new(3.0, 0.2, 1.7))
+            .rotate_degrees(DVec3::new(10.0, 23.0, -5.0))
+            .build()
+            .unwrap();
+        let fields = [
+            HeightField::new(Samples::U8(&u8s), 9, 7, HeightConvention::Gray8).unwrap(),
+            HeightField::new(Samples::U8(&u8s), 9, 7, HeightConvention::Indexed)
+                .unwrap()
+                .with_transform(tilted),
+            HeightField::new(Samples::U16(&u16s), 6, 9, HeightConvention::Gray16)
+                .unwrap()
+                .with_transform(tilted),
+            HeightField::new(Samples::U16(&cliff), 5, 5, HeightConvention::Gray16).unwrap(),
+            HeightField::new(Samples::U8(&u8s[..4]), 2, 2, HeightConvention::Gray8).unwrap(),
+        ];
+        let mut checked = 0;
+        for field in &fields {
+            for z in 0..field.depth() - 1 {
+                for x in 0..field.width() - 1 {
+                    for k in 0..6 {
+                        let fu = (lcg(&mut rng) % 1025) as f32 / 1024.0;
+                        let fv = if k == 0 {
+                            0.0
+                        } else {
+                            (lcg(&mut rng) % 1025) as f32 / 1024.0
+                        };
+                        let hit = FieldHit {
+                            t: 1.0,
+                            point: Vec3::ZERO,
+                            object_point: Vec3::ZERO,
+                            cell_x: x,
+                            cell_z: z,
+                            triangle: Triangle::A,
+                            local: (fu, fv),
+                            normal: Vec3::Y,
+                        };
+                        let (got, want) = (
+                            field.smooth_normal(&hit),
+                            smooth_normal_one_vertex_at_a_time(field, &hit),
+                        );
+                        assert_eq!(
+                            got.to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits),
+                            "cell ({x}, {z}) at ({fu}, {fv}): {got:?} vs {want:?}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 600, "{checked}");
     }
 }

@@ -235,10 +235,13 @@ pub fn normal_matrix(linear: &DMat3) -> Mat3 {
 /// (a placement scaled 1e-20 on one axis and 1e3 on another) that their
 /// squares under- or overflow: then it divides by the largest first. Zero
 /// for a zero or non-finite `w`.
+#[inline]
 pub fn unit_direction(w: Vec3) -> Vec3 {
     let len2 = w.length_squared();
-    if len2.is_finite() && len2 >= 1e-30 {
-        return crate::math::normalize_or_zero(w);
+    // Then `1 / √len2` is finite and positive: `normalize_or_zero`'s
+    // result, without its checks.
+    if (1e-30..=f32::MAX).contains(&len2) {
+        return crate::math::normalize(w);
     }
     let largest = w.abs().max_element();
     if largest > 0.0 && largest.is_finite() {
