@@ -575,6 +575,27 @@ impl<'a> HeightField<'a> {
         }
     }
 
+    /// The `t` of [`intersect_counted`](Self::intersect_counted)'s hit,
+    /// without completing the hit (point, normal): what a depth query needs.
+    pub fn intersect_t(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> Option<f32> {
+        match self.numeric {
+            Numeric::F32 => {
+                let o = ray.origin.to_array();
+                let d = ray.direction.to_array();
+                Some(self.intersect_in::<f32>(o, d, t_min, t_max, counters)?.t)
+            }
+            // The normalised paths map `t` back in the completed hit.
+            #[allow(unreachable_patterns)]
+            _ => Some(self.intersect_counted(ray, t_min, t_max, counters)?.t),
+        }
+    }
+
     /// The nearest hit of a world ray walked in the numeric type `S`
     /// (whatever the field's [`Numeric`] setting), as a world hit.
     ///
@@ -782,9 +803,11 @@ impl<'a> HeightField<'a> {
         let t = hit.t.to_f32();
         let fu = hit.local.0.to_f32();
         let fv = hit.local.1.to_f32();
+        // The corners, read once for the height and the normal.
+        let corners = self.corners(hit.cell_x, hit.cell_z);
         let object_point = Vec3::new(
             (hit.cell_x as f32 + fu) / (self.width - 1) as f32,
-            self.surface_height(hit.cell_x, hit.cell_z, hit.triangle, fu, fv),
+            surface_height(&corners, hit.triangle, fu, fv),
             (hit.cell_z as f32 + fv) / (self.depth - 1) as f32,
         );
         FieldHit {
@@ -795,28 +818,15 @@ impl<'a> HeightField<'a> {
             cell_z: hit.cell_z,
             triangle: hit.triangle,
             local: (fu, fv),
-            normal: self.geometric_normal_at(hit.cell_x, hit.cell_z, hit.triangle),
+            normal: self.triangle_normal(&corners, hit.triangle),
         }
     }
 
-    /// Height of the triangle's plane at local `(fu, fv)`. The corners are
-    /// read once ([`cell_raw`](Self::cell_raw)); each is the value
-    /// [`height_at`](Self::height_at) gives (both exact).
-    fn surface_height(&self, x: u32, z: u32, tri: Triangle, fu: f32, fv: f32) -> f32 {
-        let c = Corners::<f32>::from_raw(self.cell_raw(x, z), self.units_per_sample());
-        match tri {
-            Triangle::A => c.h00 + fu * (c.h10 - c.h00) + fv * (c.h01 - c.h00),
-            Triangle::B => c.h11 + (1.0 - fu) * (c.h01 - c.h11) + (1.0 - fv) * (c.h10 - c.h11),
-        }
-    }
-
-    /// Height differences of a triangle along grid u and v.
-    fn triangle_slopes(&self, x: u32, z: u32, tri: Triangle) -> (f32, f32) {
-        let h = |dx, dz| self.height_at(x + dx, z + dz);
-        match tri {
-            Triangle::A => (h(1, 0) - h(0, 0), h(0, 1) - h(0, 0)),
-            Triangle::B => (h(1, 1) - h(0, 1), h(1, 1) - h(1, 0)),
-        }
+    /// Cell `(x, z)`'s corner heights ([`cell_raw`](Self::cell_raw)); each
+    /// is the value [`height_at`](Self::height_at) gives (both exact).
+    #[inline]
+    fn corners(&self, x: u32, z: u32) -> Corners<f32> {
+        Corners::from_raw(self.cell_raw(x, z), self.units_per_sample())
     }
 
     /// Converts a grid-space normal `(-dh/du, 1, -dh/dv)` to a unit world
@@ -843,7 +853,17 @@ impl<'a> HeightField<'a> {
 
     /// [`geometric_normal`](Self::geometric_normal) of a cell in the grid.
     fn geometric_normal_at(&self, x: u32, z: u32, tri: Triangle) -> Vec3 {
-        let (du, dv) = self.triangle_slopes(x, z, tri);
+        self.triangle_normal(&self.corners(x, z), tri)
+    }
+
+    /// Unit world normal of triangle `tri` of the cell with `corners`: the
+    /// grid-space `(-du, 1, -dv)` of its height differences along u and v.
+    #[inline]
+    fn triangle_normal(&self, c: &Corners<f32>, tri: Triangle) -> Vec3 {
+        let (du, dv) = match tri {
+            Triangle::A => (c.h10 - c.h00, c.h01 - c.h00),
+            Triangle::B => (c.h11 - c.h01, c.h11 - c.h10),
+        };
         self.grid_normal_to_world(Vec3::new(-du, 1.0, -dv))
     }
 
@@ -1050,6 +1070,16 @@ impl<'a> HeightField<'a> {
             max = max.max(w);
         }
         (min.as_vec3(), max.as_vec3())
+    }
+}
+
+/// Height of the triangle's plane at local `(fu, fv)` of a cell with
+/// `corners` (each triangle from its own right-angle corner).
+#[inline]
+fn surface_height(c: &Corners<f32>, tri: Triangle, fu: f32, fv: f32) -> f32 {
+    match tri {
+        Triangle::A => c.h00 + fu * (c.h10 - c.h00) + fv * (c.h01 - c.h00),
+        Triangle::B => c.h11 + (1.0 - fu) * (c.h01 - c.h11) + (1.0 - fv) * (c.h10 - c.h11),
     }
 }
 

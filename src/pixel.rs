@@ -52,11 +52,14 @@ pub struct Rgb888(pub [u8; 3]);
 /// One linear channel to 8 bits: `floor(v · 255 + 0.5)`, clamped.
 #[inline]
 pub fn channel_to_u8(v: f32) -> u8 {
-    let s = libm::floorf(v * 255.0 + 0.5);
-    // NaN fails both comparisons and ends up 0.
+    let s = v * 255.0 + 0.5;
+    // `floor(s)` is 255 or more exactly when `s` is, positive exactly when
+    // `s >= 1`, and between those truncation is the floor: no `floorf`
+    // (a libm call on x86-64 and the Cortex-M4F). NaN fails both
+    // comparisons and ends up 0.
     if s >= 255.0 {
         255
-    } else if s > 0.0 {
+    } else if s >= 1.0 {
         s as u8
     } else {
         0
@@ -376,5 +379,38 @@ mod tests {
         assert_eq!(channel_to_u8(0.001), 0); // 0.255
         let p = Rgb888::from_linear(Vec3::new(0.2, 0.6, 1.2), 3, 4);
         assert_eq!(p, Rgb888([51, 153, 255]));
+    }
+
+    #[test]
+    fn channel_to_u8_is_the_clamped_floor_without_floorf() {
+        let reference = |v: f32| {
+            let s = libm::floorf(v * 255.0 + 0.5);
+            if s >= 255.0 {
+                255
+            } else if s > 0.0 {
+                s as u8
+            } else {
+                0
+            }
+        };
+        // Every f32 from -0.01 to 1.01 near the 8-bit steps, and a spread
+        // of all bit patterns (NaNs, infinities, subnormals).
+        let mut bits = 0u32;
+        for _ in 0..(1 << 20) {
+            let v = f32::from_bits(bits);
+            assert_eq!(channel_to_u8(v), reference(v), "{v:e}");
+            bits = bits.wrapping_add(4099);
+        }
+        for step in 0..=256 {
+            let centre = (step as f32 - 0.5) / 255.0;
+            let mut v = centre - 1e-6;
+            while v < centre + 1e-6 {
+                assert_eq!(channel_to_u8(v), reference(v), "{v:e}");
+                v = f32::from_bits(v.to_bits().wrapping_add(if v > 0.0 { 1 } else { u32::MAX }));
+                if v == 0.0 {
+                    v = f32::MIN_POSITIVE;
+                }
+            }
+        }
     }
 }

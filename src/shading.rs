@@ -410,12 +410,42 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     pub fn depth_camera(
         &self,
         cam: &CameraRay,
-        hints: Option<&mut [ColumnHint]>,
+        mut hints: Option<&mut [ColumnHint]>,
         stats: &mut Stats,
     ) -> f32 {
         let mut counters = Counters::default();
-        let hit = self.nearest_camera_local(cam, hints, &mut counters);
-        self.count_depth(hit, &counters, stats)
+        // `nearest_camera_local`, keeping only `t`: no hit is completed.
+        let mut best_t = f32::INFINITY;
+        let mut hit = false;
+        for obj in &self.objects {
+            let t = match *obj.placed.primitive() {
+                Primitive::HeightField { field_index } => {
+                    let Some(field) = self.fields.get(field_index) else {
+                        continue;
+                    };
+                    let walked = match hints.as_deref_mut().and_then(|h| h.get_mut(field_index)) {
+                        Some(hint) => field
+                            .intersect_coherent(&cam.walk, 0.0, f32::INFINITY, hint, &mut counters)
+                            .map(|h| h.t),
+                        None => field.intersect_t(&cam.walk, 0.0, f32::INFINITY, &mut counters),
+                    };
+                    walked.map(|t| t * cam.length)
+                }
+                #[cfg(feature = "primitives")]
+                _ => obj
+                    .placed
+                    .intersect_local(&cam.ray, 0.0, best_t, self.fields, &mut counters)
+                    .map(|h| h.t()),
+            };
+            if let Some(t) = t {
+                best_t = best_t.min(t);
+                hit = true;
+            }
+        }
+        stats.primary_rays += 1;
+        stats.add_work(&counters);
+        stats.hits += u64::from(hit);
+        best_t
     }
 
     fn count_depth(
@@ -801,12 +831,8 @@ fn starts_on_side(field: &HeightField<'_>, origin: Vec3, dir: Vec3, side: f32) -
     let i = first(u, g.direction[0], cells_u);
     let j = first(v, g.direction[2], cells_v);
     let (x, z) = (i as u32, j as u32);
-    let c = Corners::<f32> {
-        h00: f32::from_height_units(field.height_units(x, z)),
-        h10: f32::from_height_units(field.height_units(x + 1, z)),
-        h01: f32::from_height_units(field.height_units(x, z + 1)),
-        h11: f32::from_height_units(field.height_units(x + 1, z + 1)),
-    };
+    // The four corners in one read, as the walk reads them.
+    let c = Corners::<f32>::from_raw(field.cell_raw(x, z), field.units_per_sample());
     let fu = (u - i as f32).clamp(0.0, 1.0);
     let fv = (v - j as f32).clamp(0.0, 1.0);
     let gap = y - c.plane_height(fu, fv);
