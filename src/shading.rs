@@ -486,20 +486,28 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     fn trace_from(
         &self,
         ray: &Ray,
-        mut camera: Option<(&CameraRay, Option<&mut [ColumnHint]>)>,
+        camera: Option<(&CameraRay, Option<&mut [ColumnHint]>)>,
         stats: &mut Stats,
     ) -> Vec3 {
         let mut counters = Counters::default();
         let mut pending: Vec<Pending, PENDING_CAPACITY> = Vec::new();
-        let _ = pending.push(Pending {
+        // The primary ray is traced first and directly (not through the
+        // stack, which is mostly never used).
+        let primary = Pending {
             ray: *ray,
             mult: Vec3::ONE,
             weight: 1.0,
             level: 0,
             kind: Kind::Primary,
-        });
-        let mut colour = Vec3::ZERO;
-        let mut segments = 0u32;
+        };
+        let mut colour =
+            Vec3::ZERO + self.segment(&primary, camera, &mut pending, stats, &mut counters);
+        if pending.is_empty() {
+            stats.add_work(&counters);
+            // A saturated term plus zero: `saturate` would not change it.
+            return colour;
+        }
+        let mut segments = 1u32;
         // Bounded by MAX_SEGMENTS iterations.
         while let Some(p) = pending.pop() {
             if segments == MAX_SEGMENTS {
@@ -507,35 +515,49 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 break;
             }
             segments += 1;
-            if p.level >= self.max_trace_level {
-                continue; // POV-Ray: black beyond max_trace_level
-            }
-            match p.kind {
-                Kind::Primary => stats.primary_rays += 1,
-                Kind::Reflected => stats.reflected_rays += 1,
-                Kind::Transmitted => stats.transmitted_rays += 1,
-            }
-            let found = match camera.take() {
-                Some((cam, hints)) => {
-                    self.nearest_camera_local(cam, hints, &mut counters)
-                        .map(|(object, local)| Surface {
-                            object,
-                            hit: self.objects[object].placed.to_world(&cam.ray, &local),
-                        })
-                }
-                None => self.nearest(&p.ray, &mut counters),
-            };
-            let Some(surface) = found else {
-                colour += saturate(p.mult * self.background);
-                continue;
-            };
-            stats.hits += 1;
-            let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
-            let local = self.shade(&p, &surface, hit_level, &mut pending, stats, &mut counters);
-            colour += saturate(p.mult * saturate(local));
+            colour += self.segment(&p, None, &mut pending, stats, &mut counters);
         }
         stats.add_work(&counters);
         saturate(colour)
+    }
+
+    /// What one traced segment adds to its pixel (`p.mult` times the
+    /// background or the local colour, saturated; nothing beyond
+    /// `max_trace_level`); pushes the rays its hit spawns. `camera`: the
+    /// primary ray's camera ray, whose height fields are walked along it.
+    fn segment(
+        &self,
+        p: &Pending,
+        camera: Option<(&CameraRay, Option<&mut [ColumnHint]>)>,
+        pending: &mut Vec<Pending, PENDING_CAPACITY>,
+        stats: &mut Stats,
+        counters: &mut Counters,
+    ) -> Vec3 {
+        if p.level >= self.max_trace_level {
+            return Vec3::ZERO; // POV-Ray: black beyond max_trace_level
+        }
+        match p.kind {
+            Kind::Primary => stats.primary_rays += 1,
+            Kind::Reflected => stats.reflected_rays += 1,
+            Kind::Transmitted => stats.transmitted_rays += 1,
+        }
+        let found = match camera {
+            Some((cam, hints)) => {
+                self.nearest_camera_local(cam, hints, counters)
+                    .map(|(object, local)| Surface {
+                        object,
+                        hit: self.objects[object].placed.to_world(&cam.ray, &local),
+                    })
+            }
+            None => self.nearest(&p.ray, counters),
+        };
+        let Some(surface) = found else {
+            return saturate(p.mult * self.background);
+        };
+        stats.hits += 1;
+        let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
+        let local = self.shade(p, &surface, hit_level, pending, stats, counters);
+        saturate(p.mult * saturate(local))
     }
 
     /// Local colour at a hit; pushes the reflected and continued rays.
