@@ -118,7 +118,7 @@ pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
     // `rcp.is_finite() && rcp > 0.0` as glam writes it, in two float
     // compares (`is_finite` is bit arithmetic: 15 more instructions on the
     // Cortex-M4F); NaN fails both.
-    if rcp > 0.0 && rcp < f32::INFINITY {
+    if rcp > 0.0 && rcp <= f32::MAX {
         v * rcp
     } else {
         Vec3::ZERO
