@@ -338,12 +338,6 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         best
     }
 
-    fn nearest(&self, ray: &Ray, counters: &mut Counters) -> Option<Surface> {
-        let (object, local) = self.nearest_local(ray, f32::INFINITY, counters)?;
-        let hit = self.objects[object].placed.to_world(ray, &local);
-        Some(Surface { object, hit })
-    }
-
     /// The nearest hit of a camera ray: height fields walked along
     /// `cam.walk` over `[0, ∞)` (coherently when `hints` holds one
     /// [`ColumnHint`] per field: the same `t` range for every ray, as
@@ -541,18 +535,17 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             Kind::Reflected => stats.reflected_rays += 1,
             Kind::Transmitted => stats.transmitted_rays += 1,
         }
+        // (A primary ray's `p.ray` is its camera's unit ray.)
         let found = match camera {
-            Some((cam, hints)) => {
-                self.nearest_camera_local(cam, hints, counters)
-                    .map(|(object, local)| Surface {
-                        object,
-                        hit: self.objects[object].placed.to_world(&cam.ray, &local),
-                    })
-            }
-            None => self.nearest(&p.ray, counters),
+            Some((cam, hints)) => self.nearest_camera_local(cam, hints, counters),
+            None => self.nearest_local(&p.ray, f32::INFINITY, counters),
         };
-        let Some(surface) = found else {
+        let Some((object, local)) = found else {
             return saturate(p.mult * self.background);
+        };
+        let surface = Surface {
+            object,
+            hit: self.objects[object].placed.to_world(&p.ray, &local),
         };
         stats.hits += 1;
         let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
