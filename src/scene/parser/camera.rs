@@ -6,8 +6,8 @@ use super::expressions::{triple, v3};
 use super::keywords::{in_list, keyword, Kw};
 use super::{Parser, D, R};
 use crate::scene::error::DiagnosticKind as K;
-use crate::scene::lexer::{Pos, TokenKind as T};
 use crate::scene::model::{CameraDesc, Projection};
+use crate::scene::token::{Pos, TokenKind as T};
 
 /// Camera items that only affect focal blur: skipped with a warning.
 const CAMERA_SKIPPED: &[&str] = &[

@@ -5,7 +5,7 @@ use super::{Parser, D, MAX_DECLARATIONS, R};
 use crate::scene::colors::named_color;
 use crate::scene::error::DiagnosticKind as K;
 use crate::scene::expr::Value;
-use crate::scene::lexer::TokenKind as T;
+use crate::scene::token::TokenKind as T;
 
 impl<'src> Parser<'src, '_> {
     pub(super) fn directive(&mut self) -> R<'src, ()> {

@@ -9,8 +9,8 @@ use super::{Parser, D, R};
 use crate::scene::colors::named_color;
 use crate::scene::error::{Arity, DiagnosticKind as K, Triple};
 use crate::scene::expr::{BinOp, Value};
-use crate::scene::lexer::{Pos, TokenKind as T};
 use crate::scene::model::Color;
+use crate::scene::token::{Pos, TokenKind as T};
 
 impl<'src> Parser<'src, '_> {
     /// Whether the current token can start an expression.

@@ -4,8 +4,8 @@ use super::expressions::rgb;
 use super::keywords::{in_list, keyword, Kw};
 use super::{Parser, D, R};
 use crate::scene::error::DiagnosticKind as K;
-use crate::scene::lexer::TokenKind as T;
 use crate::scene::model::Finish;
+use crate::scene::token::TokenKind as T;
 
 /// POV-Ray finish items hfray skips with a warning.
 const FINISH_SKIPPED: &[&str] = &[

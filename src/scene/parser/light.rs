@@ -4,8 +4,8 @@ use super::expressions::{rgb, v3};
 use super::keywords::in_list;
 use super::{Parser, D, R};
 use crate::scene::error::DiagnosticKind as K;
-use crate::scene::lexer::TokenKind as T;
 use crate::scene::model::Light;
+use crate::scene::token::TokenKind as T;
 
 /// POV-Ray light_source modifiers hfray skips with a warning.
 const LIGHT_SKIPPED: &[&str] = &[

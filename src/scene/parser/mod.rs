@@ -34,8 +34,9 @@ use heapless::Vec;
 use self::keywords::{keyword, Kw};
 use super::error::{Diagnostic, DiagnosticKind as K};
 use super::expr::Value;
-use super::lexer::{Lexer, Pos, Token, TokenKind as T};
+use super::lexer::Lexer;
 use super::model::{Scene, Shape};
+use super::token::{Pos, Token, TokenKind as T};
 
 /// Deepest nesting of parentheses, vector literals, `transform { }` blocks
 /// and skipped `{ }` blocks.

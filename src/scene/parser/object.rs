@@ -7,10 +7,10 @@ use super::keywords::{in_list, is_color_keyword, keyword, Kw};
 use super::pigment::{pigment_from, pull_back};
 use super::{Parser, D, R};
 use crate::scene::error::DiagnosticKind as K;
-use crate::scene::lexer::TokenKind as T;
 use crate::scene::model::{
     Finish, Gradient, HeightFieldSource, ImageFormat, Object, Pigment, Shape,
 };
+use crate::scene::token::TokenKind as T;
 use crate::transform::Transform;
 
 /// POV-Ray object modifiers hfray skips with a warning.

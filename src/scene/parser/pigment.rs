@@ -8,8 +8,8 @@ use super::keywords::{is_color_keyword, keyword, Kw};
 use super::{Parser, D, R};
 use crate::scene::colors::named_color;
 use crate::scene::error::DiagnosticKind as K;
-use crate::scene::lexer::{Pos, TokenKind as T};
 use crate::scene::model::{ColorMap, ColorMapEntry, Gradient, Pigment, MAX_COLOR_MAP_ENTRIES};
+use crate::scene::token::{Pos, TokenKind as T};
 use crate::transform::Transform;
 
 impl<'src> Parser<'src, '_> {

@@ -4,8 +4,8 @@ use super::keywords::{keyword, Kw};
 use super::pigment::pull_back;
 use super::{Parser, D, R};
 use crate::scene::error::DiagnosticKind as K;
-use crate::scene::lexer::TokenKind as T;
 use crate::scene::model::{Gradient, Object};
+use crate::scene::token::TokenKind as T;
 
 impl<'src> Parser<'src, '_> {
     pub(super) fn texture(

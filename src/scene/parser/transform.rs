@@ -7,7 +7,7 @@ use super::expressions::{to_f32, triple};
 use super::keywords::Kw;
 use super::{Parser, D, R};
 use crate::scene::error::{Arity, DiagnosticKind as K};
-use crate::scene::lexer::TokenKind as T;
+use crate::scene::token::TokenKind as T;
 use crate::transform::Transform;
 
 impl<'src> Parser<'src, '_> {
