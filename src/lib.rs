@@ -282,11 +282,13 @@ pub mod pixel;
 pub mod ray;
 pub mod real;
 pub mod render;
+mod render_error;
 pub mod scene;
 pub mod shading;
 pub mod shapes;
 pub mod sink;
 pub mod skip;
+mod stats;
 pub mod transform;
 pub mod traversal;
 
