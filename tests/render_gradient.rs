@@ -65,7 +65,7 @@ fn render_hfray() -> Vec<[u8; 3]> {
     let scene: TestScene = parse_scene(SCENE, &options, &mut |w| panic!("{w}")).unwrap();
     let (eight, sixteen) = (island(), island16());
     let mut fields = Vec::new();
-    for (_, source, transform) in scene.height_field_sources() {
+    for (_, source) in scene.height_field_sources() {
         let field = match source.path {
             "island16.pgm" => {
                 HeightField::new(Samples::U16(&sixteen), N, N, HeightConvention::Gray16)
@@ -77,7 +77,7 @@ fn render_hfray() -> Vec<[u8; 3]> {
             .unwrap()
             .with_water_level(source.water_level)
             .unwrap()
-            .with_transform(*transform);
+            .with_transform(source.transform);
         fields.push(field);
     }
     // `render_linear` takes a scene with the test capacities.

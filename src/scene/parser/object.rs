@@ -156,6 +156,7 @@ impl<'src> Parser<'src, '_> {
                         path,
                         water_level: 0.0,
                         palette_colors: false,
+                        transform: Transform::IDENTITY,
                     }),
                 }
             }
@@ -432,6 +433,15 @@ impl<'src> Parser<'src, '_> {
                     ))
                 }
             }
+        }
+        // A field's placement is the field's: the file's transforms go with
+        // the rest of what it said about the field.
+        if let Shape::HeightField {
+            source: Some(source),
+            ..
+        } = &mut shape
+        {
+            source.transform = core::mem::replace(&mut obj.transform, Transform::IDENTITY);
         }
         obj.shape = shape;
         if degenerate_triangle {
