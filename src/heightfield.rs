@@ -295,24 +295,14 @@ impl<'a> HeightField<'a> {
         self
     }
 
-    /// The same field with a skip grid built for it ([`SkipGrid::build`] or
-    /// [`SkipGrid::from_precomputed`]): the walk then skips blocks as the
-    /// [`Traversal`] mode says (by default [`Traversal::Hierarchy`]).
-    /// Fails if the grid was made for a field of another size or sample
-    /// width.
-    pub fn with_skip(mut self, skip: SkipGrid<'a>) -> Result<Self, SkipError> {
-        let sb = match self.samples {
-            Samples::U8(_) => 1,
-            Samples::U16(_) => 2,
-        };
-        let grid = (skip.width(), skip.depth(), skip.sample_bytes());
-        if grid != (self.width, self.depth, sb) {
-            return Err(SkipError::FieldMismatch {
-                grid,
-                field: (self.width, self.depth, sb),
-            });
-        }
-        self.skip = Some(skip);
+    /// The same field walking the skip grid in `bytes` (written by
+    /// [`SkipGrid::build`], perhaps stored in flash, and borrowed as
+    /// [`SkipGrid::from_precomputed`] borrows them): the walk then skips
+    /// blocks as the [`Traversal`] mode says (by default
+    /// [`Traversal::Hierarchy`]). Fails if the bytes are not a grid made for
+    /// a field of this size and sample width.
+    pub fn with_skip(mut self, bytes: &'a [u8]) -> Result<Self, SkipError> {
+        self.skip = Some(SkipGrid::from_precomputed(bytes, &self)?);
         Ok(self)
     }
 

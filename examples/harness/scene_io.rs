@@ -13,7 +13,7 @@ use std::sync::Arc;
 use hfray::scene::{
     parse_scene_located, Echo, HeightFieldSource, ImageFormat, ParseOptions, Pos, Scene, Shape,
 };
-use hfray::{HeightField, SkipGrid};
+use hfray::HeightField;
 
 use super::images::{load_height_field_within, DecodeBudget, LoadedField};
 
@@ -270,8 +270,7 @@ pub fn build_fields_located<'d>(
             .try_with_transform(hf.transform)
             .map_err(|e| at(&e))?;
         if let Some(bytes) = data.skip_bytes() {
-            let grid = SkipGrid::from_precomputed(bytes, &field).map_err(|e| at(&e))?;
-            field = field.with_skip(grid).map_err(|e| at(&e))?;
+            field = field.with_skip(bytes).map_err(|e| at(&e))?;
         }
         if hf.palette_colors {
             match data.palette() {
