@@ -19,9 +19,9 @@ use glam::{DAffine3, DVec3, Vec3};
 use crate::cell::Corners;
 use crate::ray::{FieldHit, Ray, Triangle};
 use crate::real::{Numeric, Real};
-use crate::skip::{SkipError, SkipGrid};
+use crate::skip::{SampleGrid, SkipError, SkipGrid};
 use crate::transform::{GridTransform, Transform};
-use crate::traversal::{self, Counters, GridHit, GridRay, Traversal};
+use crate::traversal::{self, Counters, GridHit, GridRay, Traversal, WalkGrid};
 
 /// The largest width or depth accepted: indices stay well inside `i32`,
 /// and grid coordinates stay exact in `f32` (2^20 < 2^24).
@@ -502,10 +502,6 @@ impl<'a> HeightField<'a> {
         x < self.width - 1 && z < self.depth - 1
     }
 
-    pub(crate) fn water_units(&self) -> u32 {
-        self.water_units
-    }
-
     pub(crate) fn units_range(&self) -> (u32, u32) {
         (self.min_units, self.max_units)
     }
@@ -938,6 +934,68 @@ impl<'a> HeightField<'a> {
             max = max.max(w);
         }
         (min.as_vec3(), max.as_vec3())
+    }
+}
+
+impl SampleGrid for HeightField<'_> {
+    #[inline(always)]
+    fn width(&self) -> u32 {
+        self.width
+    }
+
+    #[inline(always)]
+    fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    #[inline(always)]
+    fn sample_bytes(&self) -> u8 {
+        match self.samples {
+            Samples::U8(_) => 1,
+            Samples::U16(_) => 2,
+        }
+    }
+
+    #[inline(always)]
+    fn raw_sample(&self, x: u32, z: u32) -> u32 {
+        self.raw(x, z)
+    }
+}
+
+impl WalkGrid for HeightField<'_> {
+    #[inline(always)]
+    fn cell_raw(&self, x: u32, z: u32) -> [u32; 4] {
+        HeightField::cell_raw(self, x, z)
+    }
+
+    #[inline(always)]
+    fn units_per_sample(&self) -> u32 {
+        HeightField::units_per_sample(self)
+    }
+
+    #[inline(always)]
+    fn units_range(&self) -> (u32, u32) {
+        HeightField::units_range(self)
+    }
+
+    #[inline(always)]
+    fn water_units(&self) -> u32 {
+        self.water_units
+    }
+
+    #[inline(always)]
+    fn water_level(&self) -> f32 {
+        self.water_level
+    }
+
+    #[inline(always)]
+    fn traversal(&self) -> Traversal {
+        self.traversal
+    }
+
+    #[inline(always)]
+    fn skip(&self) -> Option<&SkipGrid<'_>> {
+        self.skip.as_ref()
     }
 }
 

@@ -17,10 +17,8 @@
 //! `block_log2 = 3` (8-cell blocks) that is about `2·N²/64` bytes: 8 KiB at
 //! 512², 514 KiB at 4096². The bytes are written by [`SkipGrid::build`]
 //! (once, and perhaps stored in flash), then borrowed shared by
-//! [`HeightField::with_skip`] (through [`SkipGrid::from_precomputed`],
+//! [`HeightField::with_skip`](crate::HeightField::with_skip) (through [`SkipGrid::from_precomputed`],
 //! which checks the header and size against the field).
-
-use crate::heightfield::{HeightField, Samples};
 
 /// Bytes of the header that starts every skip grid.
 pub const HEADER_BYTES: usize = 16;
@@ -234,11 +232,18 @@ const fn plan(
     Ok((offsets, blocks_u, total as usize))
 }
 
-fn sample_bytes(field: &HeightField<'_>) -> u8 {
-    match field.samples() {
-        Samples::U8(_) => 1,
-        Samples::U16(_) => 2,
-    }
+/// A `width × depth` grid of raw samples (a
+/// [`HeightField`](crate::HeightField) is one): what a skip pyramid
+/// bounds, and needs of a field.
+pub trait SampleGrid {
+    /// Samples per row.
+    fn width(&self) -> u32;
+    /// Rows.
+    fn depth(&self) -> u32;
+    /// Bytes per sample: 1 or 2.
+    fn sample_bytes(&self) -> u8;
+    /// Raw sample at grid column `x` and grid row `z` (row 0 at `z = 0`).
+    fn raw_sample(&self, x: u32, z: u32) -> u32;
 }
 
 impl<'a> SkipGrid<'a> {
@@ -272,10 +277,10 @@ impl<'a> SkipGrid<'a> {
 
     /// [`bytes_needed`](Self::bytes_needed) for `field`.
     pub fn bytes_needed_for(
-        field: &HeightField<'_>,
+        field: &impl SampleGrid,
         layout: SkipLayout,
     ) -> Result<usize, SkipError> {
-        Self::bytes_needed(field.width(), field.depth(), sample_bytes(field), layout)
+        Self::bytes_needed(field.width(), field.depth(), field.sample_bytes(), layout)
     }
 
     /// Writes the pyramid of `field` into `buffer`, which must be exactly
@@ -283,7 +288,7 @@ impl<'a> SkipGrid<'a> {
     /// sample about once (level 1), then combines levels; no allocation.
     ///
     /// The buffer is borrowed mutably only while it is written: the field
-    /// then borrows the bytes shared ([`HeightField::with_skip`]), so they
+    /// then borrows the bytes shared ([`HeightField::with_skip`](crate::HeightField::with_skip)), so they
     /// can be stored, or shared between threads, while the field walks
     /// them:
     ///
@@ -299,11 +304,11 @@ impl<'a> SkipGrid<'a> {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn build(
-        field: &HeightField<'_>,
+        field: &impl SampleGrid,
         layout: SkipLayout,
         buffer: &mut [u8],
     ) -> Result<(), SkipError> {
-        let sb = sample_bytes(field);
+        let sb = field.sample_bytes();
         let (width, depth) = (field.width(), field.depth());
         let (offsets, blocks_u, total) = plan(width, depth, sb, layout)?;
         if buffer.len() != total {
@@ -370,8 +375,8 @@ impl<'a> SkipGrid<'a> {
     /// width; the contents are trusted (a grid whose bounds are not the
     /// field's makes the walk skip surface). [`verify`](Self::verify)
     /// checks them, in time proportional to the field.
-    /// [`HeightField::with_skip`] borrows the bytes this way.
-    pub fn from_precomputed(bytes: &'a [u8], field: &HeightField<'_>) -> Result<Self, SkipError> {
+    /// [`HeightField::with_skip`](crate::HeightField::with_skip) borrows the bytes this way.
+    pub fn from_precomputed(bytes: &'a [u8], field: &impl SampleGrid) -> Result<Self, SkipError> {
         if bytes.len() < HEADER_BYTES {
             return Err(SkipError::Size {
                 expected: HEADER_BYTES,
@@ -388,7 +393,7 @@ impl<'a> SkipGrid<'a> {
         };
         let width = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
         let depth = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]);
-        let field_key = (field.width(), field.depth(), sample_bytes(field));
+        let field_key = (field.width(), field.depth(), field.sample_bytes());
         if (width, depth, sb) != field_key {
             return Err(SkipError::FieldMismatch {
                 grid: (width, depth, sb),
@@ -417,8 +422,8 @@ impl<'a> SkipGrid<'a> {
 
     /// Checks every block's bounds against `field`'s samples (no
     /// allocation; time proportional to the field times the level count).
-    pub fn verify(&self, field: &HeightField<'_>) -> Result<(), SkipError> {
-        let field_key = (field.width(), field.depth(), sample_bytes(field));
+    pub fn verify(&self, field: &impl SampleGrid) -> Result<(), SkipError> {
+        let field_key = (field.width(), field.depth(), field.sample_bytes());
         let grid_key = (self.width, self.depth, self.sample_bytes);
         if grid_key != field_key {
             return Err(SkipError::FieldMismatch {
