@@ -106,8 +106,7 @@ fn skip_buffer(field: &HeightField<'_>, layout: SkipLayout) -> Vec<u8> {
 }
 
 fn with_grid<'a>(field: &HeightField<'a>, buf: &'a [u8], mode: Traversal) -> HeightField<'a> {
-    let grid = SkipGrid::from_precomputed(buf, field).unwrap();
-    field.clone().with_skip(grid).unwrap().with_traversal(mode)
+    field.clone().with_skip(buf).unwrap().with_traversal(mode)
 }
 
 /// Primary rays per second through `intersect_counted` (the field's

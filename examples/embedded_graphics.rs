@@ -34,7 +34,6 @@ use embedded_graphics_core::Pixel as EgPixel;
 use harness::scene_io::{build_fields, load_fields, parse_file_scene, read_scene_text};
 use harness::tga::TgaWriter;
 use hfray::render::{render, RenderSettings, Stats};
-use hfray::scene::ParseOptions;
 use hfray::sink::{embedded_graphics_core, DrawTargetSink};
 use hfray::{Pixel, Rgb565, Rgb565Dithered};
 
@@ -187,15 +186,14 @@ where
 
 fn run(o: &Options) -> Result<(), String> {
     let text = read_scene_text(&o.scene)?;
-    let options = ParseOptions::new(o.width, o.height);
-    let scene = parse_file_scene(&o.scene, &text, &options, &mut |w| {
+    let settings = RenderSettings::new(o.width, o.height);
+    let scene = parse_file_scene(&o.scene, &text, &settings.parse_options(), &mut |w| {
         eprintln!("warning: {w}")
     })?;
     let loaded = load_fields(&scene, &o.scene)?;
     let fields = build_fields(&scene, &loaded)?;
 
     let mut lcd = MockLcd::new(o.width, o.height);
-    let settings = RenderSettings::new(o.width, o.height);
     let stats = if o.dither {
         render_to::<Rgb565Dithered>(&scene, &fields, &settings, &mut lcd)?
     } else {

@@ -168,6 +168,12 @@ impl Options {
         self.aov.is_some()
     }
 
+    /// The image these options render (whole, top-down): the one source of
+    /// its size, for the parser's `image_width`/`image_height` as well.
+    fn settings(&self) -> RenderSettings {
+        RenderSettings::new(self.width, self.height).with_aa(self.aa)
+    }
+
     /// Checks what clap cannot: rows against the height, the output's
     /// type and folder.
     fn check(&self) -> Result<(), String> {
@@ -456,9 +462,7 @@ fn render_rows(
     progress: &mut Progress,
 ) -> Result<Stats, String> {
     let order = row_order(o, scene);
-    let base = RenderSettings::new(o.width, o.height)
-        .with_aa(o.aa)
-        .with_order(order);
+    let base = o.settings().with_order(order);
     let Threads {
         count: threads,
         queue_rows,
@@ -708,10 +712,9 @@ fn run(o: &Options) -> Result<(), String> {
             0.0
         };
         let options = ParseOptions {
-            image_width: o.width,
-            image_height: o.height,
             clock,
             strict: o.strict,
+            ..o.settings().parse_options()
         };
         let parse_start = Instant::now();
         let mut warnings = Vec::new();

@@ -61,7 +61,7 @@ fn configure<'a>(
         .zip(grids)
         .map(|(f, g)| {
             f.clone()
-                .with_skip(SkipGrid::from_precomputed(g, f).unwrap())
+                .with_skip(g)
                 .unwrap()
                 .with_traversal(mode)
                 .with_numeric(numeric)

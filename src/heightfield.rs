@@ -19,9 +19,9 @@ use glam::{DAffine3, DVec3, Vec3};
 use crate::cell::Corners;
 use crate::ray::{FieldHit, Ray, Triangle};
 use crate::real::{Numeric, Real};
-use crate::skip::{SkipError, SkipGrid};
+use crate::skip::{SampleGrid, SkipError, SkipGrid};
 use crate::transform::{GridTransform, Transform};
-use crate::traversal::{self, Counters, GridHit, GridRay, Traversal};
+use crate::traversal::{self, Counters, GridHit, GridRay, Traversal, WalkGrid};
 
 /// The largest width or depth accepted: indices stay well inside `i32`,
 /// and grid coordinates stay exact in `f32` (2^20 < 2^24).
@@ -299,24 +299,14 @@ impl<'a> HeightField<'a> {
         self
     }
 
-    /// The same field with a skip grid built for it ([`SkipGrid::build`] or
-    /// [`SkipGrid::from_precomputed`]): the walk then skips blocks as the
-    /// [`Traversal`] mode says (by default [`Traversal::Hierarchy`]).
-    /// Fails if the grid was made for a field of another size or sample
-    /// width.
-    pub fn with_skip(mut self, skip: SkipGrid<'a>) -> Result<Self, SkipError> {
-        let sb = match self.samples {
-            Samples::U8(_) => 1,
-            Samples::U16(_) => 2,
-        };
-        let grid = (skip.width(), skip.depth(), skip.sample_bytes());
-        if grid != (self.width, self.depth, sb) {
-            return Err(SkipError::FieldMismatch {
-                grid,
-                field: (self.width, self.depth, sb),
-            });
-        }
-        self.skip = Some(skip);
+    /// The same field walking the skip grid in `bytes` (written by
+    /// [`SkipGrid::build`], perhaps stored in flash, and borrowed as
+    /// [`SkipGrid::from_precomputed`] borrows them): the walk then skips
+    /// blocks as the [`Traversal`] mode says (by default
+    /// [`Traversal::Hierarchy`]). Fails if the bytes are not a grid made for
+    /// a field of this size and sample width.
+    pub fn with_skip(mut self, bytes: &'a [u8]) -> Result<Self, SkipError> {
+        self.skip = Some(SkipGrid::from_precomputed(bytes, &self)?);
         Ok(self)
     }
 
@@ -520,10 +510,6 @@ impl<'a> HeightField<'a> {
     /// `true` if cell `(x, z)` is one of the grid's `(width − 1) × (depth − 1)`.
     fn has_cell(&self, x: u32, z: u32) -> bool {
         x < self.width - 1 && z < self.depth - 1
-    }
-
-    pub(crate) fn water_units(&self) -> u32 {
-        self.water_units
     }
 
     pub(crate) fn units_range(&self) -> (u32, u32) {
@@ -1080,6 +1066,68 @@ fn surface_height(c: &Corners<f32>, tri: Triangle, fu: f32, fv: f32) -> f32 {
     match tri {
         Triangle::A => c.h00 + fu * (c.h10 - c.h00) + fv * (c.h01 - c.h00),
         Triangle::B => c.h11 + (1.0 - fu) * (c.h01 - c.h11) + (1.0 - fv) * (c.h10 - c.h11),
+    }
+}
+
+impl SampleGrid for HeightField<'_> {
+    #[inline(always)]
+    fn width(&self) -> u32 {
+        self.width
+    }
+
+    #[inline(always)]
+    fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    #[inline(always)]
+    fn sample_bytes(&self) -> u8 {
+        match self.samples {
+            Samples::U8(_) => 1,
+            Samples::U16(_) => 2,
+        }
+    }
+
+    #[inline(always)]
+    fn raw_sample(&self, x: u32, z: u32) -> u32 {
+        self.raw(x, z)
+    }
+}
+
+impl WalkGrid for HeightField<'_> {
+    #[inline(always)]
+    fn cell_raw(&self, x: u32, z: u32) -> [u32; 4] {
+        HeightField::cell_raw(self, x, z)
+    }
+
+    #[inline(always)]
+    fn units_per_sample(&self) -> u32 {
+        HeightField::units_per_sample(self)
+    }
+
+    #[inline(always)]
+    fn units_range(&self) -> (u32, u32) {
+        HeightField::units_range(self)
+    }
+
+    #[inline(always)]
+    fn water_units(&self) -> u32 {
+        self.water_units
+    }
+
+    #[inline(always)]
+    fn water_level(&self) -> f32 {
+        self.water_level
+    }
+
+    #[inline(always)]
+    fn traversal(&self) -> Traversal {
+        self.traversal
+    }
+
+    #[inline(always)]
+    fn skip(&self) -> Option<&SkipGrid<'_>> {
+        self.skip.as_ref()
     }
 }
 

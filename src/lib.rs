@@ -120,12 +120,12 @@
 //!     .collect();
 //! // One field per `field_index`, built from what the file said about it.
 //! let mut fields = Vec::new();
-//! for (field_index, source, transform) in scene.height_field_sources() {
+//! for (field_index, source) in scene.height_field_sources() {
 //!     assert_eq!((field_index, source.path), (fields.len(), "terrain.pgm"));
 //!     let field = HeightField::new(Samples::U8(&gray), 65, 65, HeightConvention::Gray8)
 //!         .and_then(|f| f.with_water_level(source.water_level))
 //!         .expect("valid field")
-//!         .with_transform(*transform);
+//!         .with_transform(source.transform);
 //!     fields.push(field);
 //! }
 //!
@@ -282,11 +282,13 @@ pub mod pixel;
 pub mod ray;
 pub mod real;
 pub mod render;
+mod render_error;
 pub mod scene;
 pub mod shading;
 pub mod shapes;
 pub mod sink;
 pub mod skip;
+mod stats;
 pub mod transform;
 pub mod traversal;
 

@@ -83,9 +83,10 @@ use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField};
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::render::{RenderError, Stats, MAX_AA};
+use crate::render_error::{RenderError, MAX_AA};
 use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
+use crate::stats::Stats;
 use crate::traversal::Counters;
 
 /// The largest colour magnitude a traced ray returns: `f32::MAX` over the

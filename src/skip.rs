@@ -15,11 +15,10 @@
 //! followed by the levels, finest first, each row-major `[min, max]` pairs
 //! (little-endian `u16` for 16-bit fields). For an 8-bit `N × N` field with
 //! `block_log2 = 3` (8-cell blocks) that is about `2·N²/64` bytes: 8 KiB at
-//! 512², 514 KiB at 4096². The bytes can be built once with
-//! [`SkipGrid::build`] and stored (e.g. in flash), then borrowed with
-//! [`SkipGrid::from_precomputed`], which checks the header and size.
-
-use crate::heightfield::{HeightField, Samples};
+//! 512², 514 KiB at 4096². The bytes are written by [`SkipGrid::build`]
+//! (once, and perhaps stored in flash), then borrowed shared by
+//! [`HeightField::with_skip`](crate::HeightField::with_skip) (through [`SkipGrid::from_precomputed`],
+//! which checks the header and size against the field).
 
 /// Bytes of the header that starts every skip grid.
 pub const HEADER_BYTES: usize = 16;
@@ -107,7 +106,8 @@ pub enum SkipError {
     },
     /// The header does not start with `HFSK` version 1.
     Header,
-    /// The grid was made for a field of another size or sample width.
+    /// The bytes were made for a field of another size or sample width
+    /// (their header records the field's).
     FieldMismatch {
         /// `(width, depth, bytes per sample)` recorded in the grid.
         grid: (u32, u32, u8),
@@ -232,11 +232,18 @@ const fn plan(
     Ok((offsets, blocks_u, total as usize))
 }
 
-fn sample_bytes(field: &HeightField<'_>) -> u8 {
-    match field.samples() {
-        Samples::U8(_) => 1,
-        Samples::U16(_) => 2,
-    }
+/// A `width × depth` grid of raw samples (a
+/// [`HeightField`](crate::HeightField) is one): what a skip pyramid
+/// bounds, and needs of a field.
+pub trait SampleGrid {
+    /// Samples per row.
+    fn width(&self) -> u32;
+    /// Rows.
+    fn depth(&self) -> u32;
+    /// Bytes per sample: 1 or 2.
+    fn sample_bytes(&self) -> u8;
+    /// Raw sample at grid column `x` and grid row `z` (row 0 at `z = 0`).
+    fn raw_sample(&self, x: u32, z: u32) -> u32;
 }
 
 impl<'a> SkipGrid<'a> {
@@ -270,22 +277,20 @@ impl<'a> SkipGrid<'a> {
 
     /// [`bytes_needed`](Self::bytes_needed) for `field`.
     pub fn bytes_needed_for(
-        field: &HeightField<'_>,
+        field: &impl SampleGrid,
         layout: SkipLayout,
     ) -> Result<usize, SkipError> {
-        Self::bytes_needed(field.width(), field.depth(), sample_bytes(field), layout)
+        Self::bytes_needed(field.width(), field.depth(), field.sample_bytes(), layout)
     }
 
-    /// Builds the pyramid of `field` into `buffer`, which must be exactly
+    /// Writes the pyramid of `field` into `buffer`, which must be exactly
     /// [`bytes_needed_for`](Self::bytes_needed_for) bytes long. Reads every
     /// sample about once (level 1), then combines levels; no allocation.
     ///
-    /// The grid borrows `buffer` for as long as it lives, and since it was
-    /// lent as `&mut`, the buffer stays exclusively borrowed that long (a
-    /// shared borrow made from a `&mut` keeps it so; no signature avoids
-    /// that in safe Rust). To read the bytes too (to store them, or to
-    /// share them between threads), drop this grid and borrow them again
-    /// with [`from_precomputed`](Self::from_precomputed):
+    /// The buffer is borrowed mutably only while it is written: the field
+    /// then borrows the bytes shared ([`HeightField::with_skip`](crate::HeightField::with_skip)), so they
+    /// can be stored, or shared between threads, while the field walks
+    /// them:
     ///
     /// ```
     /// # use hfray::{HeightConvention, HeightField, Samples, SkipGrid, SkipLayout};
@@ -294,17 +299,16 @@ impl<'a> SkipGrid<'a> {
     /// let layout = SkipLayout::blocks(1);
     /// let mut buffer = vec![0u8; SkipGrid::bytes_needed_for(&field, layout)?];
     /// SkipGrid::build(&field, layout, &mut buffer)?;
-    /// let grid = SkipGrid::from_precomputed(&buffer, &field)?; // shared
-    /// let field = field.with_skip(grid)?;
+    /// let field = field.with_skip(&buffer)?; // shared
     /// std::fs::write(std::env::temp_dir().join("field.hfsk"), &buffer)?; // still readable
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn build(
-        field: &HeightField<'_>,
+        field: &impl SampleGrid,
         layout: SkipLayout,
-        buffer: &'a mut [u8],
-    ) -> Result<Self, SkipError> {
-        let sb = sample_bytes(field);
+        buffer: &mut [u8],
+    ) -> Result<(), SkipError> {
+        let sb = field.sample_bytes();
         let (width, depth) = (field.width(), field.depth());
         let (offsets, blocks_u, total) = plan(width, depth, sb, layout)?;
         if buffer.len() != total {
@@ -362,26 +366,17 @@ impl<'a> SkipGrid<'a> {
                 }
             }
         }
-        Ok(SkipGrid {
-            bytes: buffer,
-            width,
-            depth,
-            sample_bytes: sb,
-            block_log2: layout.block_log2,
-            levels: layout.levels,
-            level_recip: level_recip(layout.block_log2 as u32) as u16,
-            offsets,
-            blocks_u,
-        })
+        Ok(())
     }
 
-    /// Borrows a grid built earlier (for example by [`build`](Self::build)
-    /// on a host and stored in flash). Checks the header, the size and that
-    /// it was made for a field of `field`'s size and sample width; the
-    /// contents are trusted (a grid whose bounds are not the field's makes
-    /// the walk skip surface). [`verify`](Self::verify) checks them, in
-    /// time proportional to the field.
-    pub fn from_precomputed(bytes: &'a [u8], field: &HeightField<'_>) -> Result<Self, SkipError> {
+    /// Borrows a grid's bytes, written by [`build`](Self::build) (perhaps
+    /// on a host, and stored in flash). Checks the header, the size and
+    /// that the bytes were made for a field of `field`'s size and sample
+    /// width; the contents are trusted (a grid whose bounds are not the
+    /// field's makes the walk skip surface). [`verify`](Self::verify)
+    /// checks them, in time proportional to the field.
+    /// [`HeightField::with_skip`](crate::HeightField::with_skip) borrows the bytes this way.
+    pub fn from_precomputed(bytes: &'a [u8], field: &impl SampleGrid) -> Result<Self, SkipError> {
         if bytes.len() < HEADER_BYTES {
             return Err(SkipError::Size {
                 expected: HEADER_BYTES,
@@ -398,7 +393,7 @@ impl<'a> SkipGrid<'a> {
         };
         let width = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
         let depth = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]);
-        let field_key = (field.width(), field.depth(), sample_bytes(field));
+        let field_key = (field.width(), field.depth(), field.sample_bytes());
         if (width, depth, sb) != field_key {
             return Err(SkipError::FieldMismatch {
                 grid: (width, depth, sb),
@@ -427,8 +422,8 @@ impl<'a> SkipGrid<'a> {
 
     /// Checks every block's bounds against `field`'s samples (no
     /// allocation; time proportional to the field times the level count).
-    pub fn verify(&self, field: &HeightField<'_>) -> Result<(), SkipError> {
-        let field_key = (field.width(), field.depth(), sample_bytes(field));
+    pub fn verify(&self, field: &impl SampleGrid) -> Result<(), SkipError> {
+        let field_key = (field.width(), field.depth(), field.sample_bytes());
         let grid_key = (self.width, self.depth, self.sample_bytes);
         if grid_key != field_key {
             return Err(SkipError::FieldMismatch {

@@ -46,15 +46,15 @@
 //! target.
 //!
 //! Column coherence (`nearest_in_column`, behind
-//! [`HeightField::intersect_coherent`]): a primary ray may start where the
-//! previous ray of its image column stopped; the conditions that make this
+//! [`HeightField::intersect_coherent`](crate::HeightField::intersect_coherent)):
+//! a primary ray may start where the previous ray of its image column
+//! stopped; the conditions that make this
 //! exact, and why, are in that function's documentation.
 
 use crate::cell::{Cell, Corners, Place};
-use crate::heightfield::HeightField;
 use crate::ray::Triangle;
 use crate::real::Real;
-use crate::skip::{SkipGrid, MAX_LEVELS};
+use crate::skip::{SampleGrid, SkipGrid, MAX_LEVELS};
 
 /// A ray in grid space: `u = x·(width−1)`, `y`, `v = z·(depth−1)`.
 #[derive(Debug, Clone, Copy)]
@@ -90,7 +90,7 @@ pub struct Counters {
     /// Skip-grid blocks tested (0 in the flat walk).
     pub blocks: u64,
     /// Rays that started their walk where the previous ray of their
-    /// column stopped ([`HeightField::intersect_coherent`]).
+    /// column stopped ([`HeightField::intersect_coherent`](crate::HeightField::intersect_coherent)).
     pub resumed: u64,
 }
 
@@ -202,7 +202,8 @@ enum Exit {
 ///
 /// Every mode returns bit-identical hits (`tests/modes.rs` checks it on
 /// random and adversarial fields and rays); they differ only in speed.
-/// Without a skip grid attached ([`HeightField::with_skip`]) every mode
+/// Without a skip grid attached
+/// ([`HeightField::with_skip`](crate::HeightField::with_skip)) every mode
 /// walks flat.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Traversal {
@@ -216,6 +217,29 @@ pub enum Traversal {
     /// bounds the ray clears, descend into the others.
     #[default]
     Hierarchy,
+}
+
+/// What the walk reads of a height field: the grid's size, its cells' raw
+/// samples and their scale, the sample range and water level it culls by,
+/// and the skip grid and mode it crosses the field by.
+/// [`HeightField`](crate::HeightField) is the implementation; the walk
+/// needs no more of a field than this.
+pub(crate) trait WalkGrid: SampleGrid {
+    /// Raw samples of cell `(x, z)`'s corners:
+    /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
+    fn cell_raw(&self, x: u32, z: u32) -> [u32; 4];
+    /// Height units (1/65536) per raw sample step.
+    fn units_per_sample(&self) -> u32;
+    /// Lowest and highest sample height, in height units.
+    fn units_range(&self) -> (u32, u32);
+    /// The water level in height units.
+    fn water_units(&self) -> u32;
+    /// The water level in object units.
+    fn water_level(&self) -> f32;
+    /// The mode to walk in.
+    fn traversal(&self) -> Traversal;
+    /// The skip grid, if one is attached.
+    fn skip(&self) -> Option<&SkipGrid<'_>>;
 }
 
 /// The ray and the field's constants for one walk.
@@ -317,9 +341,9 @@ impl<S: Real> Walk<S> {
     #[inline(always)]
     /// On a hit the cursor is left at the hit cell and recorded in `stop`
     /// (where a coherent walk may resume).
-    fn visit(
+    fn visit<F: WalkGrid>(
         &self,
-        field: &HeightField<'_>,
+        field: &F,
         c: &mut Cursor<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -408,9 +432,9 @@ impl<S: Real> Walk<S> {
     }
 
     /// The flat walk from `start`.
-    fn walk_flat(
+    fn walk_flat<F: WalkGrid>(
         &self,
-        field: &HeightField<'_>,
+        field: &F,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -447,9 +471,9 @@ impl<S: Real> Walk<S> {
     /// have visited in the block (including the one where it would end),
     /// and the cells after the block are reached by [`block_exit`] exactly.
     #[allow(clippy::too_many_arguments)]
-    fn walk_skip(
+    fn walk_skip<F: WalkGrid>(
         &self,
-        field: &HeightField<'_>,
+        field: &F,
         skip: &SkipGrid<'_>,
         top: u8,
         start: Resume<S>,
@@ -551,9 +575,9 @@ impl<S: Real> Walk<S> {
     /// for a field without water (`wet`), where the height tests imply
     /// them.
     #[allow(clippy::too_many_arguments)]
-    fn walk_hdda(
+    fn walk_hdda<F: WalkGrid>(
         &self,
-        field: &HeightField<'_>,
+        field: &F,
         skip: &SkipGrid<'_>,
         top: u8,
         start: Resume<S>,
@@ -957,8 +981,8 @@ fn block_exit<S: Real>(
 /// `field`'s [`Traversal`] mode says. With `any`, the first hit found is
 /// returned (it is the nearest anyway; the flag only tells the caller it
 /// wants a yes/no).
-pub(crate) fn nearest<S: Real>(
-    field: &HeightField<'_>,
+pub(crate) fn nearest<S: Real, F: WalkGrid>(
+    field: &F,
     ray: &GridRay<S>,
     t_min: S,
     t_max: S,
@@ -1041,8 +1065,8 @@ pub(crate) fn nearest<S: Real>(
 /// before that cell, and starting it there, entered as ray 1 entered it,
 /// gives the hit its full walk gives. Any failed condition walks from the
 /// start. `tests/coherence.rs` checks identity on sweeps of columns.
-pub(crate) fn nearest_in_column<S: Real>(
-    field: &HeightField<'_>,
+pub(crate) fn nearest_in_column<S: Real, F: WalkGrid>(
+    field: &F,
     ray: &GridRay<S>,
     t_min: S,
     t_max: S,
@@ -1122,8 +1146,8 @@ impl<S: Real> ColumnState<S> {
 
 /// `true` if the walk's first sample of a ray starting at `t_near` in cell
 /// `(i, j)` (entered from inside) is strictly above the surface.
-fn starts_above<S: Real>(
-    field: &HeightField<'_>,
+fn starts_above<S: Real, F: WalkGrid>(
+    field: &F,
     walk: &Walk<S>,
     i: i32,
     j: i32,
@@ -1142,8 +1166,8 @@ fn starts_above<S: Real>(
 
 /// [`nearest`] for a ray whose direction components are each zero or have
 /// a finite reciprocal (or are negligible next to the largest).
-fn walk<S: Real>(
-    field: &HeightField<'_>,
+fn walk<S: Real, F: WalkGrid>(
+    field: &F,
     ray: &GridRay<S>,
     t_min: S,
     t_max: S,
@@ -1266,9 +1290,9 @@ fn walk<S: Real>(
 
 impl<S: Real> Walk<S> {
     /// The walk from `start` in `field`'s mode.
-    fn walk_from(
+    fn walk_from<F: WalkGrid>(
         &mut self,
-        field: &HeightField<'_>,
+        field: &F,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,

@@ -9,11 +9,11 @@
 mod cli_common;
 
 use std::os::unix::fs::symlink;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use cli_common::{entries, render_bin, temp_dir};
+use cli_common::{entries, render_bin, stderr, temp_dir};
 
 /// A 4×4 8-bit PGM: a small hill.
 fn write_pgm(path: &Path) {
@@ -33,17 +33,34 @@ fn scene_text(image: &str, extra: &str) -> String {
     )
 }
 
-fn run(args: &[&str]) -> Output {
-    Command::new(render_bin())
-        .args(args)
-        .args(["--width", "16", "--height", "10", "--quiet"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap()
+/// `dir/hill.pgm` ([`write_pgm`]) and `dir/s.pov` ([`scene_text`] reading
+/// it); returns the scene's path.
+fn hill_scene(dir: &Path) -> PathBuf {
+    write_pgm(&dir.join("hill.pgm"));
+    let scene = dir.join("s.pov");
+    std::fs::write(&scene, scene_text("hill.pgm", "")).unwrap();
+    scene
 }
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+/// Renders `scene` to `out` as [`run`] does, with `extra` arguments.
+fn render(scene: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    args.extend(extra);
+    run(&args)
+}
+
+/// `heap_peak_bytes` from the `--stats` line in `stderr`.
+fn heap_peak(stderr: &str) -> u64 {
+    stderr
+        .split("heap_peak_bytes=")
+        .nth(1)
+        .and_then(|v| v.trim().parse().ok())
+        .expect("heap_peak_bytes in --stats")
+}
+
+/// [`cli_common::run`] at 16×10, quiet.
+fn run(args: &[&str]) -> Output {
+    cli_common::run(&[args, &["--width", "16", "--height", "10", "--quiet"]].concat())
 }
 
 #[track_caller]
@@ -75,18 +92,13 @@ fn planted_symlink_at_an_old_style_temporary_name_is_never_followed() {
     let dir = temp_dir("hostile-link");
     let victim = dir.join("victim.txt");
     std::fs::write(&victim, "keep me").unwrap();
-    write_pgm(&dir.join("hill.pgm"));
-    std::fs::write(dir.join("s.pov"), scene_text("hill.pgm", "")).unwrap();
+    let scene = hill_scene(&dir);
     let next_pid = Command::new("true").spawn().unwrap().id();
     for pid in next_pid..next_pid + 200 {
         symlink(&victim, dir.join(format!(".out.tga.partial-{pid}"))).unwrap();
     }
     let out = dir.join("out.tga");
-    let o = run(&[
-        dir.join("s.pov").to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = render(&scene, &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
     let meta = std::fs::symlink_metadata(&out).unwrap();
@@ -99,15 +111,10 @@ fn symlink_planted_as_the_output_is_replaced_not_written_through() {
     let dir = temp_dir("hostile-outlink");
     let victim = dir.join("victim.txt");
     std::fs::write(&victim, "keep me").unwrap();
-    write_pgm(&dir.join("hill.pgm"));
-    std::fs::write(dir.join("s.pov"), scene_text("hill.pgm", "")).unwrap();
+    let scene = hill_scene(&dir);
     let out = dir.join("out.tga");
     symlink(&victim, &out).unwrap();
-    let o = run(&[
-        dir.join("s.pov").to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = render(&scene, &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
     assert!(std::fs::symlink_metadata(&out)
@@ -130,11 +137,7 @@ fn output_that_is_the_height_field_image_is_refused() {
                  light_source { <2, 4, -3> color rgb 1 }\n\
                  height_field { tga \"hill.tga\" }\n";
     std::fs::write(dir.join("s.pov"), scene).unwrap();
-    let o = run(&[
-        dir.join("s.pov").to_str().unwrap(),
-        "-o",
-        image.to_str().unwrap(),
-    ]);
+    let o = render(&dir.join("s.pov"), &image, &[]);
     fails_with(&o, "the output is the same file as the input");
     assert_eq!(
         std::fs::read(&image).unwrap(),
@@ -153,7 +156,7 @@ fn output_that_is_the_scene_file_is_refused() {
     let scene = dir.join("scene.png");
     let text = scene_text("hill.pgm", "");
     std::fs::write(&scene, &text).unwrap();
-    let o = run(&[scene.to_str().unwrap(), "-o", scene.to_str().unwrap()]);
+    let o = render(&scene, &scene, &[]);
     fails_with(&o, "the output is the same file as the input");
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), text);
     std::fs::remove_dir_all(&dir).unwrap();
@@ -163,15 +166,9 @@ fn output_that_is_the_scene_file_is_refused() {
 fn output_hard_linked_to_an_input_is_refused() {
     // Another name for the same inode (same device and inode).
     let dir = temp_dir("hostile-hardlink");
-    let image = dir.join("hill.pgm");
-    write_pgm(&image);
-    std::fs::hard_link(&image, dir.join("alias.tga")).unwrap();
-    std::fs::write(dir.join("s.pov"), scene_text("hill.pgm", "")).unwrap();
-    let o = run(&[
-        dir.join("s.pov").to_str().unwrap(),
-        "-o",
-        dir.join("alias.tga").to_str().unwrap(),
-    ]);
+    let scene = hill_scene(&dir);
+    std::fs::hard_link(dir.join("hill.pgm"), dir.join("alias.tga")).unwrap();
+    let o = render(&scene, &dir.join("alias.tga"), &[]);
     fails_with(&o, "the output is the same file as the input");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -181,18 +178,13 @@ fn file_size_limit_is_an_error_and_removes_the_temporary() {
     // `ulimit -f 1`: at most one block. The render used to die of SIGXFSZ
     // with nothing on stderr, leaving its temporary file.
     let dir = temp_dir("hostile-fsize");
-    write_pgm(&dir.join("hill.pgm"));
-    std::fs::write(dir.join("s.pov"), scene_text("hill.pgm", "")).unwrap();
+    let scene = hill_scene(&dir);
     let out = dir.join("out.tga");
     let o = Command::new("sh")
         .arg("-c")
         .arg("ulimit -f 1 && exec \"$0\" \"$@\"")
         .arg(render_bin())
-        .args([
-            dir.join("s.pov").to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-        ])
+        .args([scene.to_str().unwrap(), "-o", out.to_str().unwrap()])
         .args(["--width", "400", "--height", "300", "--quiet"])
         .output()
         .unwrap();
@@ -275,16 +267,11 @@ fn image_over_the_memory_budget_is_refused_and_the_budget_can_be_raised() {
     pgm.resize(pgm.len() + 2048 * 1024, 7);
     std::fs::write(dir.join("big.pgm"), pgm).unwrap();
     std::fs::write(dir.join("s.pov"), scene_text("big.pgm", "")).unwrap();
-    let scene = dir.join("s.pov");
-    let out = dir.join("o.tga");
-    let args = [scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
-    let mut small = args.to_vec();
-    small.extend(["--max-image-mib", "1"]);
-    let e = fails_with(&run(&small), "image memory budget");
+    let (scene, out) = (dir.join("s.pov"), dir.join("o.tga"));
+    let small = render(&scene, &out, &["--max-image-mib", "1"]);
+    let e = fails_with(&small, "image memory budget");
     assert!(e.contains("s.pov:3:1:") && e.contains("2048x1024"), "{e}");
-    let mut enough = args.to_vec();
-    enough.extend(["--max-image-mib", "4"]);
-    let o = run(&enough);
+    let o = render(&scene, &out, &["--max-image-mib", "4"]);
     assert!(o.status.success(), "{}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -304,11 +291,7 @@ fn threads_256_at_65536_wide_are_capped_and_memory_stays_bounded() {
     let e = stderr(&o);
     assert!(o.status.success(), "{e}");
     assert!(e.contains("note: --threads 256 reduced to "), "{e}");
-    let peak: u64 = e
-        .split("heap_peak_bytes=")
-        .nth(1)
-        .and_then(|v| v.trim().parse().ok())
-        .expect("heap_peak_bytes in --stats");
+    let peak = heap_peak(&e);
     // Rows in flight are kept within 64 MiB; the scene and its field add
     // well under 8 MiB.
     assert!(peak < 72 << 20, "heap peak {peak} bytes");
@@ -330,11 +313,7 @@ fn singular_height_field_transform_is_located_at_the_object() {
                  light_source { <2, 4, -3> color rgb 1 }\n\
                  \n  height_field { pgm \"hill.pgm\" scale 1e-38 }\n";
     std::fs::write(dir.join("s.pov"), scene).unwrap();
-    let o = run(&[
-        dir.join("s.pov").to_str().unwrap(),
-        "-o",
-        dir.join("o.tga").to_str().unwrap(),
-    ]);
+    let o = render(&dir.join("s.pov"), &dir.join("o.tga"), &[]);
     let e = fails_with(&o, "s.pov:4:3: height_field \"hill.pgm\": ");
     assert!(e.contains("singular"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
@@ -350,11 +329,7 @@ fn degenerate_cone_is_located_at_the_object() {
                  sphere { <0, 0, 0>, 0.5 }\n\
                  cone { <0, 0, 0>, 1, <0, 1e-30, 0>, 0.5 }\n";
     std::fs::write(dir.join("s.pov"), scene).unwrap();
-    let o = run(&[
-        dir.join("s.pov").to_str().unwrap(),
-        "-o",
-        dir.join("o.tga").to_str().unwrap(),
-    ]);
+    let o = render(&dir.join("s.pov"), &dir.join("o.tga"), &[]);
     let e = fails_with(&o, "s.pov:4:1: cone: ");
     assert!(!e.contains("object 1"), "{e}");
     assert!(partials(&dir).is_empty());
@@ -366,11 +341,7 @@ fn ten_megabyte_identifier_is_echoed_short() {
     let dir = temp_dir("hostile-ident");
     let scene = dir.join("s.pov");
     std::fs::write(&scene, "a".repeat(10 << 20)).unwrap();
-    let o = run(&[
-        scene.to_str().unwrap(),
-        "-o",
-        dir.join("o.tga").to_str().unwrap(),
-    ]);
+    let o = render(&scene, &dir.join("o.tga"), &[]);
     let e = fails_with(&o, "unknown top-level item");
     assert!(e.len() < 400, "{} bytes of error", e.len());
     assert!(e.contains(&format!("`{}…`", "a".repeat(80))), "{e}");
@@ -382,11 +353,7 @@ fn control_characters_in_an_image_path_are_escaped() {
     let dir = temp_dir("hostile-ctrl");
     let scene = dir.join("s.pov");
     std::fs::write(&scene, scene_text("x\u{1b}[31m\u{7}.pgm", "")).unwrap();
-    let o = run(&[
-        scene.to_str().unwrap(),
-        "-o",
-        dir.join("o.tga").to_str().unwrap(),
-    ]);
+    let o = render(&scene, &dir.join("o.tga"), &[]);
     let e = fails_with(&o, "x\\u{1b}[31m\\u{7}.pgm");
     assert!(!e.contains('\u{1b}') && !e.contains('\u{7}'), "{e:?}");
     std::fs::remove_dir_all(&dir).unwrap();
@@ -395,14 +362,10 @@ fn control_characters_in_an_image_path_are_escaped() {
 #[test]
 fn scene_starting_with_a_utf8_byte_order_mark_renders() {
     let dir = temp_dir("hostile-bom");
-    write_pgm(&dir.join("hill.pgm"));
-    let scene = dir.join("s.pov");
-    std::fs::write(&scene, format!("\u{feff}{}", scene_text("hill.pgm", ""))).unwrap();
-    let o = run(&[
-        scene.to_str().unwrap(),
-        "-o",
-        dir.join("o.tga").to_str().unwrap(),
-    ]);
+    let scene = hill_scene(&dir);
+    let text = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(&scene, format!("\u{feff}{text}")).unwrap();
+    let o = render(&scene, &dir.join("o.tga"), &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -520,11 +483,7 @@ fn render_peak_stays_under_512_mib_for_the_largest_input_the_defaults_accept() {
         .unwrap();
     let e = stderr(&o);
     assert!(o.status.success(), "{e}");
-    let peak: u64 = e
-        .split("heap_peak_bytes=")
-        .nth(1)
-        .and_then(|v| v.trim().parse().ok())
-        .expect("heap_peak_bytes in --stats");
+    let peak = heap_peak(&e);
     // Measured 272 170 581 bytes (260 MiB): the image budget plus the
     // scene text, well inside the stated 512 MiB.
     assert!(peak < 300 << 20, "heap peak {peak} bytes");

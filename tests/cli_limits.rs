@@ -7,17 +7,9 @@
 mod cli_common;
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-use cli_common::{entries, render_bin, temp_dir};
-
-fn run(args: &[&str]) -> Output {
-    Command::new(render_bin())
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap()
-}
+use cli_common::{entries, run, temp_dir};
 
 /// Exit status 1, one `error: ` message containing `needle`, and nothing
 /// written into `dir` beyond what was there (`before`).

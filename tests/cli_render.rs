@@ -1,40 +1,12 @@
 //! The `render` command as a user meets it: exit codes, error messages with
 //! their location, outputs of every kind, and no partial file on failure.
-//!
-//! `cargo test` builds the examples before running the tests, so the binary
-//! is next to this test's own: `target/<profile>/examples/render`.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+#[path = "cli_common/mod.rs"]
+mod cli_common;
 
-fn render_bin() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap();
-    let bin = dir
-        .join("examples")
-        .join(format!("render{}", std::env::consts::EXE_SUFFIX));
-    assert!(bin.exists(), "{} not built", bin.display());
-    bin
-}
+use std::path::Path;
 
-fn run(args: &[&str]) -> Output {
-    Command::new(render_bin())
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("hfray-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use cli_common::{run, stderr, temp_dir};
 
 fn no_partial_files(dir: &Path) {
     let left: Vec<_> = std::fs::read_dir(dir)
@@ -46,7 +18,7 @@ fn no_partial_files(dir: &Path) {
 
 #[test]
 fn default_scene_renders_to_tga_png_and_depth_pfm() {
-    let dir = temp_dir("ok");
+    let dir = temp_dir("cli-ok");
     for (name, extra) in [
         ("a.tga", &[][..]),
         ("a.png", &[][..]),
@@ -98,7 +70,7 @@ fn default_scene_renders_to_tga_png_and_depth_pfm() {
 
 #[test]
 fn scene_syntax_error_exits_1_with_file_line_col_and_no_output() {
-    let dir = temp_dir("syntax");
+    let dir = temp_dir("cli-syntax");
     let scene = dir.join("bad.pov");
     std::fs::write(
         &scene,
@@ -117,7 +89,7 @@ fn scene_syntax_error_exits_1_with_file_line_col_and_no_output() {
 
 #[test]
 fn missing_height_field_image_is_named_in_the_error() {
-    let dir = temp_dir("missing");
+    let dir = temp_dir("cli-missing");
     let scene = dir.join("s.pov");
     std::fs::write(
         &scene,

@@ -71,9 +71,8 @@ fn orthographic_columns(centre: Vec3, yaw: f32, cols: u32, rows: u32) -> Vec<Col
 fn modes<'a>(field: &HeightField<'a>, grids: &'a [(SkipLayout, Vec<u8>)]) -> Vec<HeightField<'a>> {
     let mut out = vec![field.clone().with_traversal(Traversal::Flat)];
     for (_, buf) in grids {
-        let grid = SkipGrid::from_precomputed(buf, field).unwrap();
         for mode in [Traversal::Blocks, Traversal::Hierarchy] {
-            out.push(field.clone().with_skip(grid).unwrap().with_traversal(mode));
+            out.push(field.clone().with_skip(buf).unwrap().with_traversal(mode));
         }
     }
     out

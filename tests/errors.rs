@@ -93,8 +93,8 @@ fn build_everything() -> Result<(), Box<dyn Error>> {
         .with_transform(place);
     let layout = SkipLayout::blocks(1);
     let mut buffer = vec![0u8; SkipGrid::bytes_needed_for(&field, layout)?];
-    let grid = SkipGrid::build(&field, layout, &mut buffer)?;
-    let _field = field.with_skip(grid)?;
+    SkipGrid::build(&field, layout, &mut buffer)?;
+    let _field = field.with_skip(&buffer)?;
     let _camera = Camera::new(&CameraDesc::default(), 0, 4)?; // fails: empty image
     Ok(())
 }

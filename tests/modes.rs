@@ -189,14 +189,14 @@ fn hierarchy_visits_far_fewer_cells_on_a_large_field() {
     let layout = SkipLayout::pyramid(n, n, 3);
     assert_eq!(layout.levels, 2);
     let mut buf = vec![0u8; SkipGrid::bytes_needed_for(&field, layout).unwrap()];
-    let grid = SkipGrid::build(&field, layout, &mut buf).unwrap();
+    SkipGrid::build(&field, layout, &mut buf).unwrap();
     let flat = field.clone().with_traversal(Traversal::Flat);
     let blocks = field
         .clone()
-        .with_skip(grid)
+        .with_skip(&buf)
         .unwrap()
         .with_traversal(Traversal::Blocks);
-    let hier = field.clone().with_skip(grid).unwrap();
+    let hier = field.clone().with_skip(&buf).unwrap();
     assert_eq!(hier.traversal(), Traversal::Hierarchy);
     let (mut cf, mut cb, mut ch) = (
         Counters::default(),
@@ -349,10 +349,12 @@ fn precomputed_grids_are_checked() {
         }
     );
     let mut buf = vec![0u8; n];
-    let grid = SkipGrid::build(&field, layout, &mut buf).unwrap();
+    SkipGrid::build(&field, layout, &mut buf).unwrap();
+    // The written bytes are borrowed shared while the grid lives.
+    let grid = SkipGrid::from_precomputed(&buf, &field).unwrap();
     grid.verify(&field).unwrap();
     assert_eq!(grid.layout(), layout);
-    let stored = grid.as_bytes().to_vec();
+    let stored = buf.clone();
     // Round trip.
     let again = SkipGrid::from_precomputed(&stored, &field).unwrap();
     again.verify(&field).unwrap();
@@ -365,7 +367,7 @@ fn precomputed_grids_are_checked() {
         Err(SkipError::FieldMismatch { .. })
     ));
     assert!(matches!(
-        other.clone().with_skip(again),
+        other.clone().with_skip(&stored),
         Err(SkipError::FieldMismatch { .. })
     ));
     // Bad magic, truncated, extended.

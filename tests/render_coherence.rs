@@ -265,10 +265,7 @@ impl Fields {
         .unwrap();
         let f = match mode {
             Traversal::Flat => f,
-            _ => f
-                .clone()
-                .with_skip(SkipGrid::from_precomputed(&self.grid, &f).unwrap())
-                .unwrap(),
+            _ => f.clone().with_skip(&self.grid).unwrap(),
         };
         f.with_traversal(mode)
     }

@@ -12,7 +12,6 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use common::*;
 use hfray::glam::Vec3;
@@ -66,7 +65,7 @@ fn render_hfray() -> Vec<[u8; 3]> {
     let scene: TestScene = parse_scene(SCENE, &options, &mut |w| panic!("{w}")).unwrap();
     let (eight, sixteen) = (island(), island16());
     let mut fields = Vec::new();
-    for (_, source, transform) in scene.height_field_sources() {
+    for (_, source) in scene.height_field_sources() {
         let field = match source.path {
             "island16.pgm" => {
                 HeightField::new(Samples::U16(&sixteen), N, N, HeightConvention::Gray16)
@@ -78,7 +77,7 @@ fn render_hfray() -> Vec<[u8; 3]> {
             .unwrap()
             .with_water_level(source.water_level)
             .unwrap()
-            .with_transform(*transform);
+            .with_transform(source.transform);
         fields.push(field);
     }
     // `render_linear` takes a scene with the test capacities.
@@ -125,26 +124,7 @@ fn regenerate_gradient_reference_with_povray() {
     std::fs::write(dir.join("island8.pgm"), pgm8(&island())).unwrap();
     std::fs::write(dir.join("island16.pgm"), pgm16(&island16())).unwrap();
     std::fs::write(dir.join("gradient.pov"), SCENE).unwrap();
-    let out = Command::new("povray")
-        .current_dir(&dir)
-        .args([
-            "+Igradient.pov",
-            "+Ogradient.png",
-            &format!("+W{W}"),
-            &format!("+H{H}"),
-            "-A",
-            "+FN",
-            "File_Gamma=1.0",
-            "-D",
-            "-V",
-        ])
-        .output()
-        .expect("run povray");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_povray(&dir, "gradient.pov", "gradient.png", W, H);
     std::fs::copy(dir.join("gradient.png"), golden(REFERENCE)).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -19,8 +19,6 @@
 #[path = "render_common/mod.rs"]
 mod common;
 
-use std::process::Command;
-
 use common::*;
 use hfray::glam::Vec3;
 use hfray::scene::{CameraDesc, Finish, Object, Pigment, Shape};
@@ -107,26 +105,7 @@ fn island_scene_matches_povray_3_7() {
     pgm.extend_from_slice(&samples);
     std::fs::write(dir.join("island.pgm"), pgm).unwrap();
     std::fs::write(dir.join("scene.pov"), POV_SCENE).unwrap();
-    let status = Command::new("povray")
-        .current_dir(&dir)
-        .args([
-            "+Iscene.pov",
-            "+Opov.png",
-            &format!("+W{W}"),
-            &format!("+H{H}"),
-            "-A",
-            "+FN",
-            "File_Gamma=1.0",
-            "-D",
-            "-V",
-        ])
-        .output()
-        .expect("run povray");
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
+    run_povray(&dir, "scene.pov", "pov.png", W, H);
     let pov = image::open(dir.join("pov.png")).unwrap().to_rgb8();
 
     let (s, t) = hfray_scene();

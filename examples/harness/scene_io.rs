@@ -1,7 +1,7 @@
 //! Scene files from disk: parse a `.pov` file and load the height-field
 //! images it names (relative to the scene file's folder), then build one
 //! [`HeightField`] per `field_index` from what the file said about it (its
-//! [`HeightFieldSource`](hfray::scene::HeightFieldSource) and transform).
+//! [`HeightFieldSource`](hfray::scene::HeightFieldSource), placement included).
 //!
 //! Ownership is split in three steps because the scene borrows its text and
 //! the fields borrow their samples: the caller keeps the text, the parsed
@@ -13,8 +13,7 @@ use std::sync::Arc;
 use hfray::scene::{
     parse_scene_located, Echo, HeightFieldSource, ImageFormat, ParseOptions, Pos, Scene, Shape,
 };
-use hfray::transform::Transform;
-use hfray::{HeightField, SkipGrid};
+use hfray::HeightField;
 
 use super::images::{load_height_field_within, DecodeBudget, LoadedField};
 
@@ -145,10 +144,11 @@ pub fn parse_file_scene_located<'src>(
     Ok((scene, source))
 }
 
-/// Every height-field object: (object index, field index, format, file).
+/// Every height-field object: (object index, field index, what the file
+/// said about it).
 fn field_objects<'s, 'src>(
     scene: &'s FileScene<'src>,
-) -> impl Iterator<Item = (usize, usize, HeightFieldSource<'src>, &'s Transform)> + 's {
+) -> impl Iterator<Item = (usize, usize, HeightFieldSource<'src>)> + 's {
     scene
         .objects
         .iter()
@@ -158,7 +158,7 @@ fn field_objects<'s, 'src>(
                 field_index,
                 source: Some(hf),
                 ..
-            } => Some((i, field_index, hf, &o.transform)),
+            } => Some((i, field_index, hf)),
             _ => None,
         })
 }
@@ -167,7 +167,7 @@ fn field_objects<'s, 'src>(
 /// (includes are built in; none is read from disk).
 pub fn input_files(scene: &FileScene<'_>, source: &SceneSource) -> Vec<PathBuf> {
     let mut files = vec![source.file.clone()];
-    files.extend(field_objects(scene).map(|(_, _, hf, _)| source.resolve(hf.path)));
+    files.extend(field_objects(scene).map(|(_, _, hf)| source.resolve(hf.path)));
     files
 }
 
@@ -195,10 +195,10 @@ pub fn load_fields_within(
     budget: &mut DecodeBudget,
 ) -> Result<Vec<Arc<LoadedField>>, String> {
     let mut named: Vec<_> = field_objects(scene).collect();
-    named.sort_by_key(|&(_, field_index, _, _)| field_index);
+    named.sort_by_key(|&(_, field_index, _)| field_index);
     let mut decoded: Vec<(FileId, ImageFormat, Arc<LoadedField>)> = Vec::new();
     let mut fields = Vec::with_capacity(named.len());
-    for (object, _, hf, _) in named {
+    for (object, _, hf) in named {
         let (format, resolved) = (hf.format, source.resolve(hf.path));
         let at = |e: String| format!("{}: {e}", source.at(object));
         let id = file_id(&resolved);
@@ -254,7 +254,7 @@ pub fn build_fields_located<'d>(
     source: &SceneSource,
 ) -> Result<Vec<HeightField<'d>>, String> {
     let mut fields: Vec<Option<HeightField<'d>>> = vec![None; loaded.len()];
-    for (i, field_index, hf, transform) in field_objects(scene) {
+    for (i, field_index, hf) in field_objects(scene) {
         let path = hf.path;
         let at = |e: &dyn std::fmt::Display| {
             format!("{}: height_field \"{}\": {e}", source.at(i), Echo(path))
@@ -267,11 +267,10 @@ pub fn build_fields_located<'d>(
             .map_err(|e| at(&e))?
             .with_water_level(hf.water_level)
             .map_err(|e| at(&e))?
-            .try_with_transform(*transform)
+            .try_with_transform(hf.transform)
             .map_err(|e| at(&e))?;
         if let Some(bytes) = data.skip_bytes() {
-            let grid = SkipGrid::from_precomputed(bytes, &field).map_err(|e| at(&e))?;
-            field = field.with_skip(grid).map_err(|e| at(&e))?;
+            field = field.with_skip(bytes).map_err(|e| at(&e))?;
         }
         if hf.palette_colors {
             match data.palette() {

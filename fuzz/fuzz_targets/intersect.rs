@@ -302,10 +302,10 @@ fuzz_target!(|input: Input| {
     // A skip pyramid (fan-out 2, 4 or 8) for the hierarchical walk.
     let layout = SkipLayout::pyramid(w, d, 1 + input.width % 3);
     let mut skip = vec![0u8; SkipGrid::bytes_needed_for(&field, layout).expect("valid layout")];
-    let grid = SkipGrid::build(&field, layout, &mut skip).expect("sized buffer");
+    SkipGrid::build(&field, layout, &mut skip).expect("sized buffer");
     let hier = field
         .clone()
-        .with_skip(grid)
+        .with_skip(&skip)
         .expect("grid of this field")
         .with_traversal(Traversal::Hierarchy);
     let flat = field.clone().with_traversal(Traversal::Flat);

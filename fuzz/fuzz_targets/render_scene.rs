@@ -117,12 +117,12 @@ fn fields<'a>(
     palette: &'a [[u8; 3]; 256],
 ) -> Option<Vec<HeightField<'a>>> {
     let mut out: Vec<Option<HeightField<'a>>> = Vec::new();
-    for (field_index, source, transform) in scene.height_field_sources() {
+    for (field_index, source) in scene.height_field_sources() {
         let mut f = HeightField::new(Samples::U8(samples), fw, fd, HeightConvention::Indexed)
             .ok()?
             .with_water_level(source.water_level)
             .ok()?
-            .with_transform(*transform);
+            .with_transform(source.transform);
         if source.palette_colors {
             f = f.with_palette(palette).ok()?;
         }

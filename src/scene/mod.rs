@@ -64,13 +64,15 @@
 //! unknown top-level items are errors. Nesting is limited to [`MAX_DEPTH`].
 
 pub mod colors;
+mod echo;
 pub mod error;
 pub mod expr;
 pub mod lexer;
 pub mod model;
 mod parser;
+mod token;
 
 pub use error::{Diagnostic, DiagnosticKind, Echo, Severity};
-pub use lexer::Pos;
 pub use model::*;
 pub use parser::{parse_scene, parse_scene_located, ParseOptions, MAX_DECLARATIONS, MAX_DEPTH};
+pub use token::Pos;

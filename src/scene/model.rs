@@ -333,8 +333,8 @@ pub enum ImageFormat {
 }
 
 /// What a scene file says about a `height_field`: the description the
-/// caller builds the [`HeightField`](crate::HeightField) from (with the
-/// object's transform). The renderer never reads it: it renders the field.
+/// caller builds the [`HeightField`](crate::HeightField) from. The renderer
+/// never reads it: it renders the field.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HeightFieldSource<'src> {
     /// The image format keyword (or the one the extension implies).
@@ -347,6 +347,10 @@ pub struct HeightFieldSource<'src> {
     /// syntax): the field is to be built with its image's palette, and a
     /// triangle's colour is then the mean of its vertices' palette colours.
     pub palette_colors: bool,
+    /// The object's transforms (`scale`, `rotate`, ... in written order):
+    /// where the field is to be placed. The object's own
+    /// [`transform`](Object::transform) stays the identity.
+    pub transform: Transform,
 }
 
 /// The geometry of an object, in object space.
@@ -423,9 +427,9 @@ pub struct Object<'src> {
     /// Geometry in object space.
     pub shape: Shape<'src>,
     /// Object-to-world placement (all `scale/rotate/translate`, in order).
-    /// A height field is placed by its field's own transform instead; for
-    /// a parsed one this is the transform the file gave, to build the field
-    /// with.
+    /// A height field is placed by its field's own transform instead, so
+    /// here it is the identity (a parsed one's transforms are in its
+    /// [`HeightFieldSource::transform`]).
     pub transform: Transform,
     /// Colour.
     pub pigment: Pigment,
@@ -513,18 +517,17 @@ impl<'src, const OBJECTS: usize, const LIGHTS: usize, const GRADIENTS: usize>
     }
 
     /// The parsed height-field objects, in file order (which is
-    /// `field_index` order): each one's index, what the file said about it
-    /// and the transform to place it by (the harness builds the fields from
-    /// these).
+    /// `field_index` order): each one's index and what the file said about
+    /// it, placement included (the harness builds the fields from these).
     pub fn height_field_sources(
         &self,
-    ) -> impl Iterator<Item = (usize, HeightFieldSource<'src>, &Transform)> + '_ {
+    ) -> impl Iterator<Item = (usize, HeightFieldSource<'src>)> + '_ {
         self.objects.iter().filter_map(|o| match o.shape {
             Shape::HeightField {
                 field_index,
                 source: Some(source),
                 ..
-            } => Some((field_index, source, &o.transform)),
+            } => Some((field_index, source)),
             _ => None,
         })
     }

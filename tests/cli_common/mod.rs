@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
 
 /// `target/<profile>/examples/render`, brought up to date once per test
 /// process with `cargo build --example render` (same profile): a whole
@@ -47,4 +47,19 @@ pub fn entries(dir: &Path) -> Vec<String> {
         .collect();
     v.sort();
     v
+}
+
+/// Runs the command with `args` from the crate's folder (where the example
+/// scenes are) and waits for it.
+pub fn run(args: &[&str]) -> Output {
+    Command::new(render_bin())
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap()
+}
+
+/// The command's stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
 }

@@ -62,9 +62,8 @@ impl Modes {
     ) -> Vec<(String, R)> {
         let mut out = Vec::new();
         for (layout, buf) in &self.grids {
-            let grid = SkipGrid::from_precomputed(buf, field).unwrap();
             for mode in [Traversal::Blocks, Traversal::Hierarchy] {
-                let g = field.clone().with_skip(grid).unwrap().with_traversal(mode);
+                let g = field.clone().with_skip(buf).unwrap().with_traversal(mode);
                 let name = format!("{mode:?} {layout:?}");
                 let r = f(&g, name.clone());
                 out.push((name, r));

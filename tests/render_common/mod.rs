@@ -3,6 +3,8 @@
 #![allow(dead_code)]
 
 use std::ops::ControlFlow;
+use std::path::Path;
+use std::process::Command;
 
 use hfray::glam::{DVec3, Vec3};
 use hfray::scene::{CameraDesc, Finish, Light, Object, Pigment, Projection, Scene, Shape};
@@ -55,6 +57,33 @@ pub fn dump(pixels: &[Vec3], width: u32, height: u32) {
     }
     let path = std::path::Path::new(&dir).join(format!("{name}-{width}x{height}.png"));
     img.save(&path).expect("write dump");
+}
+
+/// Runs POV-Ray 3.7 on `scene` (a file in `dir`) at `width × height`, one
+/// ray per pixel (`-A`), writing the PNG `output` in `dir` with
+/// `File_Gamma=1.0`, so its levels are linear colours as [`render_linear`]'s
+/// are; fails the test with POV-Ray's messages if it fails.
+pub fn run_povray(dir: &Path, scene: &str, output: &str, width: u32, height: u32) {
+    let out = Command::new("povray")
+        .current_dir(dir)
+        .args([
+            &format!("+I{scene}"),
+            &format!("+O{output}"),
+            &format!("+W{width}"),
+            &format!("+H{height}"),
+            "-A",
+            "+FN",
+            "File_Gamma=1.0",
+            "-D",
+            "-V",
+        ])
+        .output()
+        .expect("run povray");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// Asserts two colours agree within `tol` per channel.

@@ -76,8 +76,8 @@ fn section(runs: usize, rays: &[Ray]) {
         .collect();
     let layout = SkipLayout::pyramid(n, n, 2);
     let mut buf = vec![0u8; SkipGrid::bytes_needed_for(&field, layout).unwrap()];
-    let grid = SkipGrid::build(&field, layout, &mut buf).unwrap();
-    let ours = field.clone().with_skip(grid).unwrap();
+    SkipGrid::build(&field, layout, &mut buf).unwrap();
+    let ours = field.clone().with_skip(&buf).unwrap();
     // Agreement on the sample.
     let (mut both, mut only_ours, mut only_parry, mut max_dt) = (0u32, 0u32, 0u32, 0f32);
     let (mut checked, mut confirmed) = (0u32, 0u32);

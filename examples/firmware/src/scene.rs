@@ -476,16 +476,17 @@ pub fn build_field<'a>(
         .ok_or(SceneError::Capacity)?;
     let field = HeightField::new(Samples::U8(samples), width, depth, HeightConvention::Gray8)?
         .with_transform(transform);
-    let grid = match pyramid {
+    let bytes: &'a [u8] = match pyramid {
         Pyramid::Build(buffer) => {
             let layout = skip_layout(width, depth);
             let needed = SkipGrid::bytes_needed(width, depth, 1, layout)?;
             let buffer = buffer.get_mut(..needed).ok_or(SceneError::Capacity)?;
-            SkipGrid::build(&field, layout, buffer)?
+            SkipGrid::build(&field, layout, buffer)?;
+            buffer
         }
-        Pyramid::Precomputed(bytes) => SkipGrid::from_precomputed(bytes, &field)?,
+        Pyramid::Precomputed(bytes) => bytes,
     };
-    Ok(field.with_skip(grid)?)
+    Ok(field.with_skip(bytes)?)
 }
 
 /// A short name for an error, for the programs' one-line reports (the
