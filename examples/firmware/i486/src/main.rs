@@ -230,6 +230,17 @@ fn set_x87_precision(pc: u16) {
     unsafe { asm!("fldcw [{}]", in(reg) &cw, options(nostack)) };
 }
 
+/// Opens or closes a segment of the frame for the instruction counter
+/// (`tools/qemu-insn-count`: `frame=N` counts what runs inside the
+/// segments): `xchg bx, bx`, which changes nothing and which compilers do
+/// not emit.
+#[inline(always)]
+fn frame_mark() {
+    // SAFETY: swaps bx with itself: no register, flag or memory changes.
+    // Not `nomem`, so memory accesses stay on their side of it.
+    unsafe { asm!("xchg bx, bx", options(nostack, preserves_flags)) };
+}
+
 fn fail(what: &str) -> ! {
     let _ = writeln!(Stdout, "board=i486 error={what}");
     exit(1)
@@ -364,23 +375,11 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
             &mut *addr_of_mut!(PYRAMID),
         )
     };
-    let (samples, size): (&[u8], _) = match kind {
-        scene::FrameKind::Small => (
-            &scene::FIELD_SAMPLES,
-            (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
-        ),
-        scene::FrameKind::Lcd => (
-            &scene::LCD_FIELD_SAMPLES,
-            (scene::LCD_FIELD_WIDTH, scene::LCD_FIELD_DEPTH),
-        ),
-        scene::FrameKind::Thesis => {
-            // Generated at run time, as the thesis did (integer arithmetic:
-            // the same bytes as the host's).
-            if scene::thesis_field(thesis).is_err() {
-                fail("thesis-field");
-            }
-            (&thesis[..], (scene::THESIS_SIDE, scene::THESIS_SIDE))
-        }
+    // The thesis field is generated at run time, as the thesis did
+    // (integer arithmetic: the same bytes as the host's).
+    let (samples, size) = match kind.field_samples(thesis) {
+        Ok(s) => s,
+        Err(_) => fail("field-samples"),
     };
     let fields = match scene::build_field(&model, samples, size, scene::Pyramid::Build(pyramid)) {
         Ok(f) => [f],
@@ -395,10 +394,15 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     if write_all(fd, kind.ppm_header()).is_err() {
         fail("write");
     }
+    // The frame's instructions (`frame=` of the instruction counter): the
+    // renderer's setup (camera, tracer) and the render; not the scene, the
+    // field, its pyramid or the stack scans.
+    frame_mark();
     let renderer = match scene::Renderer::new(kind, &model, &fields) {
         Ok(r) => r,
         Err(_) => fail("render-setup"),
     };
+    frame_mark();
     let mut hash = scene::Fnv1a::default();
     // Pin the setup's results in memory before the precision changes:
     // black_box makes them escape, so their (f64/x87) computation cannot be
@@ -408,13 +412,15 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     core::hint::black_box(&renderer);
     let setup_low = lowest_used_stack_address(stack_top);
     let render_sp = repaint_below_sp(stack_top);
+    frame_mark();
     // The render: f32 only, so every x87 operation rounds to 24 bits.
     set_x87_precision(0b00);
-    let stats = renderer.render(|px| {
-        hash.update(px);
-        write_all(fd, px)
+    let stats = renderer.render(|bytes| {
+        hash.update(bytes);
+        write_all(fd, bytes)
     });
     set_x87_precision(0b10);
+    frame_mark();
     let stats = match stats {
         Ok(s) => s,
         Err(_) => fail("write"),
