@@ -52,7 +52,10 @@ pub struct Rgb888(pub [u8; 3]);
 /// One linear channel to 8 bits: `floor(v · 255 + 0.5)`, clamped.
 #[inline]
 pub fn channel_to_u8(v: f32) -> u8 {
-    let s = libm::floorf(v * 255.0 + 0.5);
+    // No `floorf`: in (0, 255) truncation is the floor, and `s ≥ 255` iff
+    // `floor(s) ≥ 255` (libm's floorf is software on the Cortex-M4F: about
+    // 26 instructions a channel).
+    let s = v * 255.0 + 0.5;
     // NaN fails both comparisons and ends up 0.
     if s >= 255.0 {
         255
@@ -376,5 +379,36 @@ mod tests {
         assert_eq!(channel_to_u8(0.001), 0); // 0.255
         let p = Rgb888::from_linear(Vec3::new(0.2, 0.6, 1.2), 3, 4);
         assert_eq!(p, Rgb888([51, 153, 255]));
+    }
+
+    /// `floor(v · 255 + 0.5)` clamped, with the floor taken by libm.
+    fn channel_by_floor(v: f32) -> u8 {
+        let s = libm::floorf(v * 255.0 + 0.5);
+        if s >= 255.0 {
+            255
+        } else if s > 0.0 {
+            s as u8
+        } else {
+            0
+        }
+    }
+
+    #[test]
+    fn channel_to_u8_without_floorf_is_the_floor() {
+        // Every 8-bit step's edge (k − ½)/255 and the values a few ulps
+        // either side, then a spread of all bit patterns.
+        for k in 0..=256u32 {
+            let edge = (k as f32 - 0.5) / 255.0;
+            for d in -8i32..=8 {
+                let v = f32::from_bits(edge.to_bits().wrapping_add_signed(d));
+                assert_eq!(channel_to_u8(v), channel_by_floor(v), "{v:e}");
+            }
+        }
+        let mut bits = 0u32;
+        for _ in 0..1 << 20 {
+            let v = f32::from_bits(bits);
+            assert_eq!(channel_to_u8(v), channel_by_floor(v), "{v:e}");
+            bits = bits.wrapping_add(4093);
+        }
     }
 }
