@@ -193,7 +193,7 @@ fn render_both(
     let split = scene::Renderer::new(kind, scene_model, fields)
         .map_err(|e| format!("split renderer setup failed: {e:?}"))?;
     let split_stats = split
-        .render(|bytes| {
+        .render(&mut line, |bytes| {
             split_hash.update(bytes);
             Ok::<(), ()>(())
         })

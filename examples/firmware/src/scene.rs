@@ -647,6 +647,18 @@ fn send_piece<E>(
     sink(&bytes[..3 * pixels.len().min(PIECE_PIXELS)])
 }
 
+/// Hands a finished row to `sink`, [`PIECE_PIXELS`] pixels at a time.
+fn send_row<E>(
+    row: &[Rgb888],
+    rgb565: bool,
+    sink: &mut impl FnMut(&[u8]) -> Result<(), E>,
+) -> Result<(), E> {
+    for piece in row.chunks(PIECE_PIXELS) {
+        send_piece(piece, rgb565, sink)?;
+    }
+    Ok(())
+}
+
 /// Which renderer draws the frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Frame {
@@ -680,14 +692,12 @@ pub fn render<E>(
         .ok_or(FrameError::Render(RenderError::EmptyImage))?;
     let mut failed = None;
     let rgb565 = kind == FrameKind::Lcd;
-    let mut row_sink = |_: u32, row: &[Rgb888]| {
-        for piece in row.chunks(PIECE_PIXELS) {
-            if let Err(e) = send_piece(piece, rgb565, &mut sink) {
-                failed = Some(e);
-                return ControlFlow::Break(());
-            }
+    let mut row_sink = |_: u32, row: &[Rgb888]| match send_row(row, rgb565, &mut sink) {
+        Ok(()) => ControlFlow::Continue(()),
+        Err(e) => {
+            failed = Some(e);
+            ControlFlow::Break(())
         }
-        ControlFlow::Continue(())
     };
     let stats = match frame {
         Frame::Float => hfray::render(scene, fields, &settings, line, &mut row_sink),
@@ -726,24 +736,28 @@ impl<'s> Renderer<'s> {
         })
     }
 
-    /// Renders the frame; see [`render`]. Bounds: `height × width` pixels,
-    /// each one `Tracer::trace_camera` (itself bounded by hfray), as
-    /// `hfray::render` traces it.
-    pub fn render<E>(&self, mut sink: impl FnMut(&[u8]) -> Result<(), E>) -> Result<Stats, E> {
+    /// Renders the frame into `line` and hands it to `sink` as [`render`]
+    /// does. Bounds: `height × width` pixels, each one
+    /// `Tracer::trace_camera` (itself bounded by hfray), as `hfray::render`
+    /// traces it.
+    pub fn render<E>(
+        &self,
+        line: &mut [Rgb888],
+        mut sink: impl FnMut(&[u8]) -> Result<(), E>,
+    ) -> Result<Stats, FrameError<E>> {
         let mut stats = Stats::default();
         let (width, height) = self.kind.size();
+        let line = line
+            .get_mut(..width)
+            .ok_or(FrameError::Render(RenderError::EmptyImage))?;
         let rgb565 = self.kind == FrameKind::Lcd;
-        let mut bytes = [0u8; 3 * PIECE_PIXELS];
         for y in 0..height {
-            for x0 in (0..width).step_by(PIECE_PIXELS) {
-                let n = PIECE_PIXELS.min(width - x0);
-                for (x, out) in (x0..x0 + n).zip(bytes.chunks_exact_mut(3)) {
-                    let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                    let c = self.tracer.trace_camera(&ray, None, &mut stats);
-                    out.copy_from_slice(&shown(Rgb888::from_linear(c, x as u32, y as u32), rgb565));
-                }
-                sink(&bytes[..3 * n])?;
+            for (x, p) in line.iter_mut().enumerate() {
+                let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                let c = self.tracer.trace_camera(&ray, None, &mut stats);
+                *p = Rgb888::from_linear(c, x as u32, y as u32);
             }
+            send_row(line, rgb565, &mut sink).map_err(FrameError::Sink)?;
             stats.rows += 1;
         }
         Ok(stats)
