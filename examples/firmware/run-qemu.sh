@@ -2,7 +2,12 @@
 # Builds and runs hfray's firmware scene on every target and compares each
 # frame with the host reference render. One line per target and scene:
 #
-#   target=T frame_checksum=HEX host_checksum=HEX stack_bytes=N text_bytes=N instructions=N [extras]
+#   target=T frame_checksum=HEX host_checksum=HEX stack_bytes=N text_bytes=N instructions=N
+#            frame_instructions=N [extras]
+#
+# `instructions`: the whole program; `frame_instructions`: the frame alone
+# (each program brackets it with marker instructions the plugin counts
+# between, tools/qemu-insn-count; README "What the counts include").
 #
 # Targets (T; the first line of each is the issue-5 frame, scene `base`):
 #   thumbv6m-none-eabi/microbit        qemu-system-arm -machine microbit   (Cortex-M0, soft-float)
@@ -32,7 +37,7 @@
 # scenes are refused (`refused=FixedFrame`). Its `full` build draws in f32.
 # `--base` runs the base scene of the height-field-only build only.
 # `--profile` also prints, under each run's line, the functions that
-# executed the most instructions (`PROFILE_TOP`, default 12), symbolised
+# executed the most instructions in the frame (`PROFILE_TOP`, default 12), symbolised
 # from the run's ELF (tools/qemu-insn-count/by_symbol.py; needs python3
 # and nm):
 #   profile T:  N  P%  FUNCTION
