@@ -74,22 +74,11 @@ fn main() -> ExitCode {
     // Every field's pyramid is built here (the Cortex-M builds take the
     // larger ones from flash, built by build.rs with the same code).
     let mut thesis = vec![0u8; scene::THESIS_SAMPLES];
-    let (samples, size): (&[u8], _) = match kind {
-        scene::FrameKind::Small => (
-            &scene::FIELD_SAMPLES,
-            (scene::FIELD_WIDTH, scene::FIELD_DEPTH),
-        ),
-        scene::FrameKind::Lcd => (
-            &scene::LCD_FIELD_SAMPLES,
-            (scene::LCD_FIELD_WIDTH, scene::LCD_FIELD_DEPTH),
-        ),
-        scene::FrameKind::Thesis => {
-            // Generated at run time, as the i486 program does.
-            if let Err(e) = scene::thesis_field(&mut thesis) {
-                eprintln!("firmware_host: cannot generate the thesis field: {e:?}");
-                return ExitCode::FAILURE;
-            }
-            (&thesis, (scene::THESIS_SIDE, scene::THESIS_SIDE))
+    let (samples, size) = match kind.field_samples(&mut thesis) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("firmware_host: cannot make the field's samples: {e:?}");
+            return ExitCode::FAILURE;
         }
     };
     let mut pyramid = vec![0u8; scene::THESIS_SKIP_BYTES];
@@ -123,9 +112,9 @@ fn main() -> ExitCode {
             &scene_model,
             &fields,
             &mut line,
-            |px| {
-                fixed_hash.update(px);
-                fixed.extend_from_slice(px);
+            |bytes| {
+                fixed_hash.update(bytes);
+                fixed.extend_from_slice(bytes);
                 Ok::<(), ()>(())
             },
         ) {
@@ -191,9 +180,9 @@ fn render_both(
         scene_model,
         fields,
         &mut line,
-        |px| {
-            hash.update(px);
-            frame.extend_from_slice(px);
+        |bytes| {
+            hash.update(bytes);
+            frame.extend_from_slice(bytes);
             Ok::<(), ()>(())
         },
     )
@@ -204,8 +193,8 @@ fn render_both(
     let split = scene::Renderer::new(kind, scene_model, fields)
         .map_err(|e| format!("split renderer setup failed: {e:?}"))?;
     let split_stats = split
-        .render(|px| {
-            split_hash.update(px);
+        .render(&mut line, |bytes| {
+            split_hash.update(bytes);
             Ok::<(), ()>(())
         })
         .map_err(|_| "the split renderer failed".to_string())?;

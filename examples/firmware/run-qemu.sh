@@ -2,7 +2,12 @@
 # Builds and runs hfray's firmware scene on every target and compares each
 # frame with the host reference render. One line per target and scene:
 #
-#   target=T frame_checksum=HEX host_checksum=HEX stack_bytes=N text_bytes=N instructions=N [extras]
+#   target=T frame_checksum=HEX host_checksum=HEX stack_bytes=N text_bytes=N instructions=N
+#            frame_instructions=N [extras]
+#
+# `instructions`: the whole program; `frame_instructions`: the frame alone
+# (each program brackets it with marker instructions the plugin counts
+# between, tools/qemu-insn-count; README "What the counts include").
 #
 # Targets (T; the first line of each is the issue-5 frame, scene `base`):
 #   thumbv6m-none-eabi/microbit        qemu-system-arm -machine microbit   (Cortex-M0, soft-float)
@@ -32,7 +37,7 @@
 # scenes are refused (`refused=FixedFrame`). Its `full` build draws in f32.
 # `--base` runs the base scene of the height-field-only build only.
 # `--profile` also prints, under each run's line, the functions that
-# executed the most instructions (`PROFILE_TOP`, default 12), symbolised
+# executed the most instructions in the frame (`PROFILE_TOP`, default 12), symbolised
 # from the run's ELF (tools/qemu-insn-count/by_symbol.py; needs python3
 # and nm):
 #   profile T:  N  P%  FUNCTION
@@ -184,13 +189,16 @@ image_bytes() {
     done
     echo "$sum"
 }
-# profile LABEL DUMP ELF: with --profile, the run's top functions by
-# executed instructions.
+# profile LABEL DUMP ELF: with --profile, the top functions of the run's
+# frame by executed instructions.
 profile() {
     ((profile)) || return 0
     python3 "$here/tools/qemu-insn-count/by_symbol.py" "$2" "$3" nm "$profile_top" |
         tail -n +2 | sed "s|^|profile $1: |"
 }
+# frame_instructions LOG: the instructions of the frame (the program brackets
+# it with marker instructions, tools/qemu-insn-count), from a QEMU log.
+frame_instructions() { sed -n 's/^insn_count: frame=\([0-9]*\).*/\1/p' "$1"; }
 # The work counters every program prints; they must equal the host's.
 work_keys=(hits reflected_rays shadow_rays shadow_hits cells triangle_tests dropped_rays)
 work() {
@@ -284,7 +292,7 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
         rm -rf "$scratch" && mkdir -p "$scratch"
         if ! line="$(cd "$scratch" && timeout "$run_timeout" qemu-system-arm -machine "$board" -nographic \
             -semihosting-config "enable=on,target=native,arg=hfray-firmware,arg=$scene" \
-            -plugin "$plugin,out=$out/insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" \
+            -plugin "$plugin,out=$out/insns-$tag.txt,frame_out=$out/frame-insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" \
             -kernel "$elf")"; then
             # The fixed-point frame draws no mirrors: refused, never drawn otherwise.
             if frame_uses_fixed "$board" "$build" && [[ -z "${fixed_error[$scene]+set}" && "$line" == *"error=render:FixedFrame"* ]]; then
@@ -305,17 +313,18 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
         fi
         compare "$t" "$ref" "$line" "$ppm"
         insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+        frame_insns="$(frame_instructions "$out/qemu-$tag.log")"
         vfp="$(sed -n 's/.*vfp(cp10\/11)=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
         echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[$ref]}" \
             "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
-            "instructions=${insns:-?} vfp_instructions=${vfp:-?} rodata_bytes=$(section_size "$elf" .rodata)" \
+            "instructions=${insns:-?} frame_instructions=${frame_insns:-?} vfp_instructions=${vfp:-?} rodata_bytes=$(section_size "$elf" .rodata)" \
             "image_bytes=$(image_bytes "$elf") stack_limit_bytes=$(field stack_limit_bytes "$line")" \
             "render_stack_bytes=$(field render_stack_bytes "$line") render_peak_stack_bytes=$(field render_peak_stack_bytes "$line")" \
             "setup_stack_bytes=$(field setup_stack_bytes "$line")" \
             "model_bytes=$(field model_bytes "$line") heightfield_bytes=$(field heightfield_bytes "$line")" \
             "tracer_bytes=$(field tracer_bytes "$line") line_bytes=$(field line_bytes "$line")" \
             "scene=$scene build=$build $(work "$line")$extra"
-        profile "$t" "$out/insns-$tag.txt" "$elf"
+        profile "$t" "$out/frame-insns-$tag.txt" "$elf"
     done
 done
 
@@ -346,18 +355,19 @@ if ((all)); then
         rm -rf "$scratch" && mkdir -p "$scratch"
         line="$(cd "$scratch" && timeout "$run_timeout" qemu-system-arm -machine microbit -nographic \
             -semihosting-config "enable=on,target=native,arg=hfray-firmware,arg=$scene" \
-            -plugin "$plugin,out=$out/insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" \
+            -plugin "$plugin,out=$out/insns-$tag.txt,frame_out=$out/frame-insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" \
             -kernel "$elf")" || true
         insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+        frame_insns="$(frame_instructions "$out/qemu-$tag.log")"
         if [[ "$scene" == base ]]; then
             ppm="$out/frame-microbit-minimal.ppm"
             mv -f "$scratch/frame-microbit.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
             compare "$t" fixed:base "$line" "$ppm"
             echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[fixed:base]}" \
                 "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$elf" .text)" \
-                "instructions=${insns:-?} image_bytes=$(image_bytes "$elf") scene=base build=minimal $(work "$line")" \
+                "instructions=${insns:-?} frame_instructions=${frame_insns:-?} image_bytes=$(image_bytes "$elf") scene=base build=minimal $(work "$line")" \
                 "frame=fixed ${fixed_error[base]}"
-            profile "$t" "$out/insns-$tag.txt" "$elf"
+            profile "$t" "$out/frame-insns-$tag.txt" "$elf"
         elif [[ "$line" == *"error=render:FixedFrame"* || "$line" == *"error=render:NotBuilt"* ]]; then
             echo "target=$t refused=$(sed -n 's/.*error=render:\([A-Za-z]*\).*/\1/p' <<<"$line") scene=$scene build=minimal"
         else
@@ -376,13 +386,14 @@ for r in "${runs[@]}"; do
     ppm="$out/$(frame_name i486 "$build" "$scene")"
     rm -rf "$scratch" && mkdir -p "$scratch"
     if ! line="$(cd "$scratch" && timeout "$run_timeout" qemu-i386 -cpu 486 \
-        -plugin "$plugin,out=$out/insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" "$i486_bin" "$scene")"; then
+        -plugin "$plugin,out=$out/insns-$tag.txt,frame_out=$out/frame-insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" "$i486_bin" "$scene")"; then
         fail "$t: qemu-i386 -cpu 486 exited non-zero: $line"
         continue
     fi
     mv -f "$scratch/frame-i486.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
     compare "$t (qemu-i386 -cpu 486)" "$scene" "$line" "$ppm"
     insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+    frame_insns="$(frame_instructions "$out/qemu-$tag.log")"
     x87="$(sed -n 's/.*x87(D8-DF,9B)=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
     # The same ELF run directly by the kernel with an 8 MiB address-space cap
     # and a 64 KiB stack cap (QEMU itself cannot run under such a cap: it maps
@@ -399,7 +410,7 @@ for r in "${runs[@]}"; do
     fi
     echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[$scene]}" \
         "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$i486_bin" .text)" \
-        "instructions=${insns:-?} x87_instructions=${x87:-?} other_instructions=$((${insns:-0} - ${x87:-0}))" \
+        "instructions=${insns:-?} frame_instructions=${frame_insns:-?} x87_instructions=${x87:-?} other_instructions=$((${insns:-0} - ${x87:-0}))" \
         "rodata_bytes=$(section_size "$i486_bin" .rodata) image_bytes=$(image_bytes "$i486_bin")" \
         "render_stack_bytes=$(field render_stack_bytes "$line") render_peak_stack_bytes=$(field render_peak_stack_bytes "$line")" \
             "setup_stack_bytes=$(field setup_stack_bytes "$line")" \
@@ -408,7 +419,7 @@ for r in "${runs[@]}"; do
         "native_8MiB_checksum=$(field frame_checksum "$native") vm_peak_kib=$(field vm_peak_kib "$native")" \
         "vm_hwm_kib=$(field vm_hwm_kib "$native") max_rss_kib=${rss:-?}" \
         "scene=$scene build=$build $(work "$line")"
-    profile "$t" "$out/insns-$tag.txt" "$i486_bin"
+    profile "$t" "$out/frame-insns-$tag.txt" "$i486_bin"
 done
 
 # fsqrt against libm on the 486, at the x87 precision of the render, the

@@ -201,6 +201,8 @@ pub enum SceneError {
     /// The scene's field is not part of this program (`thesis` on the
     /// Cortex-M0: 256 KiB of samples).
     NotInThisBuild,
+    /// The `thesis` field's generator refused its parameters.
+    Generate(hfray::generate::GenerateError),
 }
 
 impl From<SkipError> for SceneError {
@@ -279,6 +281,21 @@ impl FrameKind {
             FrameKind::Lcd => Some((&LCD_FIELD_SAMPLES, LCD_FIELD_WIDTH, LCD_FIELD_DEPTH)),
             FrameKind::Thesis => None,
         }
+    }
+
+    /// The field's samples and size, made at run time where they are not
+    /// in flash: the `thesis` field is generated into `thesis` (at least
+    /// [`THESIS_SAMPLES`] bytes; the other kinds leave it alone), as the
+    /// thesis did.
+    pub fn field_samples(self, thesis: &mut [u8]) -> Result<(&[u8], (u32, u32)), SceneError> {
+        if let Some((samples, width, depth)) = self.flash_field() {
+            return Ok((samples, (width, depth)));
+        }
+        let samples = thesis
+            .get_mut(..THESIS_SAMPLES)
+            .ok_or(SceneError::Capacity)?;
+        thesis_field(samples).map_err(SceneError::Generate)?;
+        Ok((samples, (THESIS_SIDE, THESIS_SIDE)))
     }
 
     fn look(self) -> Look {
@@ -498,6 +515,7 @@ pub fn scene_error_name(e: &SceneError) -> &'static str {
         SceneError::Capacity => "Capacity",
         SceneError::Skip(_) => "Skip",
         SceneError::NotInThisBuild => "NotInThisBuild",
+        SceneError::Generate(_) => "Generate",
     }
 }
 
@@ -576,16 +594,70 @@ pub enum FrameError<E> {
     Sink(E),
 }
 
+/// What an RGB565 panel shows for each 8-bit channel value, per channel
+/// (`[v; 3]` through `Rgb565::from_rgb888`, then `Rgb565::to_rgb888`: the
+/// channels are converted independently), tabulated at compile time: the
+/// conversion divides by constants, which costs the divider-less Cortex-M0
+/// library calls per channel.
+static PANEL_LEVELS: [[u8; 3]; 256] = panel_levels();
+
+const fn panel_levels() -> [[u8; 3]; 256] {
+    let mut table = [[0u8; 3]; 256];
+    let mut v = 0;
+    // Bound: 256 entries.
+    while v < 256 {
+        table[v] = Rgb565::from_rgb888(Rgb888([v as u8; 3])).to_rgb888().0;
+        v += 1;
+    }
+    table
+}
+
 /// The RGB bytes a pixel is sent as: for an RGB565 frame, the colour the
 /// panel shows (quantised as `Rgb565::from_linear` does, then expanded
 /// back, `Rgb565::to_rgb888`).
 #[inline]
 fn shown(p: Rgb888, rgb565: bool) -> [u8; 3] {
+    let [r, g, b] = p.0;
     if rgb565 {
-        Rgb565::from_rgb888(p).to_rgb888().0
+        [
+            PANEL_LEVELS[r as usize][0],
+            PANEL_LEVELS[g as usize][1],
+            PANEL_LEVELS[b as usize][2],
+        ]
     } else {
-        p.0
+        [r, g, b]
     }
+}
+
+/// Pixels per sink call: the frame reaches its sink in pieces of this
+/// many pixels (a row's last piece may be shorter), so the programs pay one
+/// output call (semihosting, `write(2)`) per piece, not per pixel.
+pub const PIECE_PIXELS: usize = 32;
+
+/// Hands `pixels` (at most [`PIECE_PIXELS`]) to `sink` as the bytes they
+/// are sent as ([`shown`]).
+fn send_piece<E>(
+    pixels: &[Rgb888],
+    rgb565: bool,
+    sink: &mut impl FnMut(&[u8]) -> Result<(), E>,
+) -> Result<(), E> {
+    let mut bytes = [0u8; 3 * PIECE_PIXELS];
+    for (out, p) in bytes.chunks_exact_mut(3).zip(pixels) {
+        out.copy_from_slice(&shown(*p, rgb565));
+    }
+    sink(&bytes[..3 * pixels.len().min(PIECE_PIXELS)])
+}
+
+/// Hands a finished row to `sink`, [`PIECE_PIXELS`] pixels at a time.
+fn send_row<E>(
+    row: &[Rgb888],
+    rgb565: bool,
+    sink: &mut impl FnMut(&[u8]) -> Result<(), E>,
+) -> Result<(), E> {
+    for piece in row.chunks(PIECE_PIXELS) {
+        send_piece(piece, rgb565, sink)?;
+    }
+    Ok(())
 }
 
 /// Which renderer draws the frame.
@@ -602,16 +674,17 @@ pub enum Frame {
 
 /// Renders the frame of `kind` with `frame`'s renderer into `line` (the
 /// caller's row buffer, at least the frame's width: one buffer serves every
-/// frame size), handing each pixel's RGB bytes to `sink`, row 0 first, left
-/// to right. Stops at the first sink error. The firmware passes a constant
-/// `frame`, so only one renderer is linked.
+/// frame size), handing the pixels' RGB bytes to `sink` in pieces of up to
+/// [`PIECE_PIXELS`] pixels, row 0 first, left to right. Stops at the first
+/// sink error. The firmware passes a constant `frame`, so only one renderer
+/// is linked.
 pub fn render<E>(
     frame: Frame,
     kind: FrameKind,
     scene: &FirmwareScene,
     fields: &[HeightField<'_>],
     line: &mut [Rgb888],
-    mut sink: impl FnMut(&[u8; 3]) -> Result<(), E>,
+    mut sink: impl FnMut(&[u8]) -> Result<(), E>,
 ) -> Result<Stats, FrameError<E>> {
     let (width, height) = kind.size();
     let settings = RenderSettings::new(width as u32, height as u32);
@@ -620,14 +693,12 @@ pub fn render<E>(
         .ok_or(FrameError::Render(RenderError::EmptyImage))?;
     let mut failed = None;
     let rgb565 = kind == FrameKind::Lcd;
-    let mut row_sink = |_: u32, row: &[Rgb888]| {
-        for p in row {
-            if let Err(e) = sink(&shown(*p, rgb565)) {
-                failed = Some(e);
-                return ControlFlow::Break(());
-            }
+    let mut row_sink = |_: u32, row: &[Rgb888]| match send_row(row, rgb565, &mut sink) {
+        Ok(()) => ControlFlow::Continue(()),
+        Err(e) => {
+            failed = Some(e);
+            ControlFlow::Break(())
         }
-        ControlFlow::Continue(())
     };
     let stats = match frame {
         Frame::Float => hfray::render(scene, fields, &settings, line, &mut row_sink),
@@ -666,19 +737,28 @@ impl<'s> Renderer<'s> {
         })
     }
 
-    /// Renders the frame; see [`render`]. Bounds: `height × width` pixels,
-    /// each one `Tracer::trace_camera` (itself bounded by hfray), as
-    /// `hfray::render` traces it.
-    pub fn render<E>(&self, mut sink: impl FnMut(&[u8; 3]) -> Result<(), E>) -> Result<Stats, E> {
+    /// Renders the frame into `line` and hands it to `sink` as [`render`]
+    /// does. Bounds: `height × width` pixels, each one
+    /// `Tracer::trace_camera` (itself bounded by hfray), as `hfray::render`
+    /// traces it.
+    pub fn render<E>(
+        &self,
+        line: &mut [Rgb888],
+        mut sink: impl FnMut(&[u8]) -> Result<(), E>,
+    ) -> Result<Stats, FrameError<E>> {
         let mut stats = Stats::default();
         let (width, height) = self.kind.size();
+        let line = line
+            .get_mut(..width)
+            .ok_or(FrameError::Render(RenderError::EmptyImage))?;
         let rgb565 = self.kind == FrameKind::Lcd;
         for y in 0..height {
-            for x in 0..width {
+            for (x, p) in line.iter_mut().enumerate() {
                 let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
                 let c = self.tracer.trace_camera(&ray, None, &mut stats);
-                sink(&shown(Rgb888::from_linear(c, x as u32, y as u32), rgb565))?;
+                *p = Rgb888::from_linear(c, x as u32, y as u32);
             }
+            send_row(line, rgb565, &mut sink).map_err(FrameError::Sink)?;
             stats.rows += 1;
         }
         Ok(stats)
