@@ -418,6 +418,7 @@ impl<S: Real> Walk<S> {
     }
 
     /// The flat walk from `start`.
+    #[inline(never)]
     fn walk_flat(
         &self,
         field: &HeightField<'_>,
@@ -458,6 +459,7 @@ impl<S: Real> Walk<S> {
     /// have visited in the block (including the one where it would end),
     /// and the cells after the block are reached by [`block_exit`] exactly.
     #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
     fn walk_skip(
         &self,
         field: &HeightField<'_>,
@@ -570,6 +572,7 @@ impl<S: Real> Walk<S> {
     /// for a field without water (`wet`), where the height tests imply
     /// them.
     #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
     fn walk_hdda<const MOVING: bool>(
         &self,
         field: &HeightField<'_>,
