@@ -188,7 +188,8 @@ fn first_cell<S: Real>(p: S, step: i32, cells: i32) -> i32 {
     if step < 0 && S::from_i32(i) == p {
         i -= 1;
     }
-    i.clamp(0, cells - 1)
+    // `max` then `min`, not `clamp`: no `min <= max` assertion (and call).
+    i.max(0).min(cells - 1)
 }
 
 /// How the walk leaves a cell.
@@ -884,7 +885,7 @@ impl<S: Real> Walk<S> {
 #[inline(always)]
 fn first_true(pred: impl Fn(i32) -> bool, from: i32, to: i32, step: i32, guess: i32) -> i32 {
     let (lo, hi) = if step > 0 { (from, to) } else { (to, from) };
-    let mut k = guess.clamp(lo, hi);
+    let mut k = guess.max(lo).min(hi);
     if pred(k) {
         while k != from && pred(k - step) {
             k -= step;
@@ -916,7 +917,7 @@ fn first_exit_past<S: Real>(
 ) -> (i32, S, Option<S>) {
     let step = axis.step;
     let (lo, hi) = if step > 0 { (from, last) } else { (last, from) };
-    let mut k = guess.clamp(lo, hi);
+    let mut k = guess.max(lo).min(hi);
     let mut exit = axis.exit::<true>(k, o);
     if exit > t_a {
         while k != from {
