@@ -24,6 +24,11 @@
 //!   two side cells in a single point, which the shared vertex covers).
 //! - The loop runs at most `(width − 1) + (depth − 1)` times, whatever the
 //!   input; non-finite input is a miss, not a hang.
+//! - A step never leaves the field unnoticed, without a bounds test: a cell
+//!   (or block) is left across a line whose parameter is below `t_far`,
+//!   and `t_far` is at most the parameter of the field's far edge on that
+//!   axis, computed by the same expression, monotone in the line; at or
+//!   past `t_far` the walk ends instead (see `Walk::visit`).
 //!
 //! With a skip grid ([`crate::skip`]) the same walk jumps over whole
 //! blocks ([`Traversal`]): a block is skipped only when the cell cull would
@@ -43,7 +48,12 @@
 //! walk descends into a block it cannot cull (`Walk::locate`); the others
 //! take the block-jumping walk (`Walk::walk_skip`). Both are checked
 //! against the flat walk by `tests/modes.rs` and the `intersect` fuzz
-//! target.
+//! target. The hierarchical walk is compiled twice, once for rays moving
+//! along both axes (no parallel-axis tests in its loop) and once for the
+//! others, chosen once per ray. It may start at any level, since visiting a
+//! cell skips nothing: primary rays start at the coarsest, shadow rays
+//! (which start at a surface, inside blocks that are never culled) with the
+//! cells (`nearest`'s `any`).
 //!
 //! Column coherence (`nearest_in_column`, behind
 //! [`HeightField::intersect_coherent`]): a primary ray may start where the
