@@ -645,8 +645,11 @@ impl<S: Real> Walk<S> {
                     Visit::Next => {}
                 }
                 // Test again, from the coarsest, every level whose block
-                // the step left.
-                level = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
+                // the step left (usually none: the step stays in its block).
+                let moved = ((pi ^ c.i) | (pj ^ c.j)) as u32;
+                if moved >> log2 != 0 {
+                    level = changed_level(moved, recip, top);
+                }
             }
             // Blocks, from `level ≥ 1` down. The grid lines the block is
             // left by, along u and v, and their parameters are computed on
