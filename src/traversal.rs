@@ -349,17 +349,14 @@ impl<S: Real> Walk<S> {
         let (au, av) = (&self.au, &self.av);
         let (i, j, t_a, tu, tv) = (c.i, c.j, c.t_a, c.tu, c.tv);
         let t_far = self.t_far;
-        let (t_step, exit) = if tu < tv {
+        let (t_exit, exit) = if t_far <= tu && t_far <= tv {
+            (t_far, Exit::End)
+        } else if tu < tv {
             (tu, Exit::U)
         } else if tv < tu {
             (tv, Exit::V)
         } else {
             (tu, Exit::Corner)
-        };
-        let (t_exit, exit) = if t_far <= t_step {
-            (t_far, Exit::End)
-        } else {
-            (t_step, exit)
         };
         let t_b = t_exit.max(t_a);
 
@@ -433,20 +430,20 @@ impl<S: Real> Walk<S> {
 
     /// The flat walk from `start`.
     #[inline(never)]
-    fn walk_flat(
+    fn walk_flat<const MOVING: bool>(
         &self,
         field: &HeightField<'_>,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
-        let mut c = self.cursor::<false>(start.i, start.j, start.t_a, start.entry);
+        let mut c = self.cursor::<MOVING>(start.i, start.j, start.t_a, start.entry);
         // The walk moves one cell per step along u or v (both at a corner),
         // never back: it cannot take more steps than this.
         let max_steps = self.cells_u + self.cells_v + 1;
         for _ in 0..max_steps {
             counters.cells += 1;
-            match self.visit::<false>(field, &mut c, stop, counters) {
+            match self.visit::<MOVING>(field, &mut c, stop, counters) {
                 Visit::Hit(h) => return Some(h),
                 Visit::Miss => return None,
                 Visit::Next => {}
@@ -1398,7 +1395,11 @@ impl<S: Real> Walk<S> {
                 return self.walk_skip(field, skip, top, start, stop, counters);
             }
         }
-        self.walk_flat(field, start, stop, counters)
+        if au.step != 0 && av.step != 0 {
+            self.walk_flat::<true>(field, start, stop, counters)
+        } else {
+            self.walk_flat::<false>(field, start, stop, counters)
+        }
     }
 }
 
