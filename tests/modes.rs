@@ -13,8 +13,9 @@ mod common;
 
 use common::modes::Modes;
 use common::{random_heights, terrain, Rng};
+use glam::Vec3;
 use hfray::{
-    Counters, HeightConvention, HeightField, Real, Samples, SkipError, SkipGrid, SkipLayout,
+    Counters, HeightConvention, HeightField, Ray, Real, Samples, SkipError, SkipGrid, SkipLayout,
     Traversal,
 };
 
@@ -415,4 +416,57 @@ fn precomputed_grids_are_checked() {
         }
     }
     assert_eq!((lo, hi), want);
+}
+
+/// Shadow rays: from points on the surface (the hits of random primary
+/// rays, nudged along the normal or not at all), towards random lights,
+/// `occludes` gives the flat walk's answer in every mode (the
+/// hierarchical walk starts these with the cells, not the coarsest
+/// blocks), with and without water.
+#[test]
+fn shadow_rays_from_the_surface_agree_in_every_mode() {
+    let mut rng = Rng::new(31);
+    let (mut occluded, mut lit) = (0u32, 0u32);
+    for f in 0..12 {
+        let n = rng.int(9, 140);
+        let data = if f % 2 == 0 {
+            terrain(&mut rng, n, n)
+        } else {
+            random_heights(&mut rng, n, n)
+        };
+        let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
+            .unwrap()
+            .with_water_level(if f % 3 == 2 { 0.3 } else { 0.0 })
+            .unwrap();
+        let mut modes = Modes::new(&field);
+        for _ in 0..400 {
+            let eye = Vec3::new(
+                rng.range(-0.5, 1.5) as f32,
+                1.5,
+                rng.range(-0.5, 1.5) as f32,
+            );
+            let target = Vec3::new(rng.range(0.0, 1.0) as f32, 0.0, rng.range(0.0, 1.0) as f32);
+            let Some(hit) = field.intersect(&Ray::new(eye, target - eye), 0.0, f32::INFINITY)
+            else {
+                continue;
+            };
+            let light = Vec3::new(
+                rng.range(-3.0, 4.0) as f32,
+                rng.range(0.2, 3.0) as f32,
+                rng.range(-3.0, 4.0) as f32,
+            );
+            let nudge = [0.0, 1e-4, 1e-3][rng.int(0, 2) as usize];
+            let origin = hit.point + hit.normal * nudge;
+            let ray = Ray::new(origin, light - origin);
+            let t_min = if rng.chance(0.5) { 0.0 } else { 1e-4 };
+            match modes.intersect(&field, &ray, t_min, 1.0) {
+                Some(_) => occluded += 1,
+                None => lit += 1,
+            }
+        }
+    }
+    assert!(
+        occluded > 300 && lit > 300,
+        "occluded {occluded}, lit {lit}"
+    );
 }
