@@ -343,12 +343,36 @@ mod fixed_point {
     /// `I16F16::saturating_mul`, from 16-bit halves (`a = a₁·2^16 + a₀`,
     /// `a₁` signed, `a₀` unsigned): `a₁b₁·2^16 + a₁b₀ + a₀b₁ + ⌊a₀b₀/2^16⌋`
     /// is exact because only `a₀b₀` has bits below 2^16. Four 32-bit
-    /// multiplies: the Cortex-M0 has no 64-bit one. Out of line: the walk
-    /// multiplies in many places, and inlined it costs 9 KB of M0 code.
+    /// multiplies: the Cortex-M0 has no 64-bit one. Each term is exact in
+    /// `i32`, so their sum taken modulo 2^32 is the product whenever that
+    /// fits: `|a| ≤ F_a·2^16` with `F_a = ⌊|a|/2^16⌋ + 1` (or `⌊…⌋` for
+    /// negative `a`, from `a ^ (a >> 31)` without a negation), so
+    /// `F_a·F_b ≤ 2^15` bounds `|a·b/2^16| < 2^31` (the walk's products
+    /// nearly always); otherwise the sum is taken in `i64` and saturated.
+    /// Out of line: the walk multiplies in many places, and inlined it
+    /// costs 9 KB of M0 code.
     #[cfg_attr(target_pointer_width = "64", allow(dead_code))]
     #[inline(never)]
     pub(crate) fn mul_q16_halves(a: I16F16, b: I16F16) -> I16F16 {
         let (a, b) = (a.to_bits(), b.to_bits());
+        let bound = |v: i32| (((v ^ (v >> 31)) as u32) >> 16) + 1;
+        if bound(a) * bound(b) <= 1 << 15 {
+            let (a1, a0) = (a >> 16, a & 0xffff);
+            let (b1, b0) = (b >> 16, b & 0xffff);
+            let low = ((a0 as u32 * b0 as u32) >> 16) as i32;
+            let sum = ((a1 * b1) << 16)
+                .wrapping_add(a1 * b0)
+                .wrapping_add(a0 * b1)
+                .wrapping_add(low);
+            return I16F16::from_bits(sum);
+        }
+        mul_q16_wide(a, b)
+    }
+
+    /// [`mul_q16_halves`] for any factors: the same sum in `i64`, saturated.
+    #[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+    #[inline(never)]
+    fn mul_q16_wide(a: i32, b: i32) -> I16F16 {
         let (a1, a0) = (a >> 16, a & 0xffff);
         let (b1, b0) = (b >> 16, b & 0xffff);
         let low = ((a0 as u32 * b0 as u32) >> 16) as i64;
@@ -371,6 +395,88 @@ mod fixed_point {
     #[inline(always)]
     fn mul_q16(a: I16F16, b: I16F16) -> I16F16 {
         a.saturating_mul(b)
+    }
+
+    /// `v` in Q16, rounded to nearest (ties to even), saturated, NaN as 0:
+    /// `I16F16::saturating_from_num(v)` in integer arithmetic (through
+    /// `f64` it is software floating point on FPU-less chips, and the walk
+    /// converts a constant and the water level per ray).
+    #[inline]
+    fn q16_from_f32(v: f32) -> I16F16 {
+        let bits = v.to_bits();
+        let exp = ((bits >> 23) & 0xff) as i32;
+        if exp == 0xff && bits & 0x7f_ffff != 0 {
+            return I16F16::ZERO;
+        }
+        let negative = bits >> 31 != 0;
+        let saturated = if negative { I16F16::MIN } else { I16F16::MAX };
+        // |v| = m · 2^(exp − 150), so its Q16 bits are m · 2^(exp − 134).
+        let m = (bits & 0x7f_ffff) | if exp == 0 { 0 } else { 0x80_0000 };
+        let shift = exp.max(1) - 134;
+        let magnitude = if shift >= 0 {
+            // m < 2^24: 2^31 and more needs a shift of 8 or more.
+            if shift >= 8 || (m << shift) > 1 << 31 {
+                return saturated;
+            }
+            m << shift
+        } else if shift < -25 {
+            0
+        } else {
+            let k = (-shift) as u32;
+            let (q, rest, half) = (m >> k, m & ((1 << k) - 1), 1 << (k - 1));
+            q + u32::from(rest > half || (rest == half && q & 1 == 1))
+        };
+        match (negative, magnitude) {
+            (false, m) if m > i32::MAX as u32 => saturated,
+            (true, m) => I16F16::from_bits((m as i32).wrapping_neg()),
+            (false, m) => I16F16::from_bits(m as i32),
+        }
+    }
+
+    #[cfg(test)]
+    #[test]
+    fn q16_from_f32_is_saturating_from_num() {
+        let mut x = 0x9e37_79b9u32;
+        let check = |v: f32| {
+            assert_eq!(
+                q16_from_f32(v),
+                if v.is_nan() {
+                    I16F16::ZERO
+                } else {
+                    I16F16::saturating_from_num(v)
+                },
+                "{v:e} ({:#x})",
+                v.to_bits()
+            );
+        };
+        for v in [
+            0.0,
+            -0.0,
+            1.0 / 64.0,
+            32767.99,
+            32768.0,
+            -32768.0,
+            -32768.01,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            f32::MIN_POSITIVE,
+            1.5 / 65536.0,
+            2.5 / 65536.0,
+            -0.5 / 65536.0,
+            0.5 / 65536.0,
+        ] {
+            check(v);
+        }
+        // Every exponent from far below the step to past the range, with
+        // random significands, both signs.
+        for _ in 0..400_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            let exp = 100 + (x >> 8) % 50;
+            check(f32::from_bits((x & 0x807f_ffff) | (exp << 23)));
+        }
     }
 
     #[cfg(test)]
@@ -438,6 +544,16 @@ mod fixed_point {
         inv != I32F32::ZERO && x < limit && x * inv.to_num::<f64>().abs() < limit
     }
 
+    /// `v` in Q32 (`I32F32::saturating_from_num`; exact through `f64`).
+    #[inline]
+    fn q32_from_f32(v: f32) -> I32F32 {
+        if v.is_nan() {
+            I32F32::ZERO
+        } else {
+            I32F32::saturating_from_num(v as f64)
+        }
+    }
+
     /// Q32's product (`I32F32::saturating_mul`).
     #[inline]
     fn mul_q32(a: I32F32, b: I32F32) -> I32F32 {
@@ -445,7 +561,7 @@ mod fixed_point {
     }
 
     macro_rules! fixed_real {
-        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path, $strict:path) => {
+        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path, $strict:path, $from_f32:path) => {
             $(#[$doc])*
             #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
             pub struct $name(pub $inner);
@@ -507,7 +623,7 @@ mod fixed_point {
                 const Y_SCALE: f64 = (1u64 << $ylog2) as f64;
                 #[inline]
                 fn from_f32(v: f32) -> Self {
-                    Self::from_f64(v as f64)
+                    $name($from_f32(v))
                 }
                 #[inline]
                 fn from_f64(v: f64) -> Self {
@@ -542,6 +658,12 @@ mod fixed_point {
                 fn from_height_units(units: u32) -> Self {
                     $name(<$inner>::from_bits((units as $bits) << ($frac - 16 + $ylog2)))
                 }
+                /// `level · Y_SCALE` is exact in `f32` (a power of two;
+                /// overflow saturates either way), so no `f64`.
+                #[inline]
+                fn from_water_level(level: f32) -> Self {
+                    Self::from_f32(level * Self::Y_SCALE as f32)
+                }
                 /// `k − o` is exact (both are multiples of the ulp and far
                 /// from the range limit), consecutive values differ by
                 /// exactly 1, so their exact products with `inv` differ by
@@ -568,7 +690,8 @@ mod fixed_point {
         16,
         8,
         mul_q16,
-        strict_q16
+        strict_q16,
+        q16_from_f32
     );
     fixed_real!(
         /// Q31.32 signed fixed point in an `i64` (`fixed::types::I32F32`),
@@ -580,7 +703,8 @@ mod fixed_point {
         32,
         16,
         mul_q32,
-        strict_q32
+        strict_q32,
+        q32_from_f32
     );
 }
 
