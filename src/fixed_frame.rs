@@ -54,7 +54,7 @@ use crate::cell::Corners;
 use crate::heightfield::HeightField;
 use crate::pixel::{channel_to_u8, Rgb888};
 use crate::ray::Triangle;
-use crate::real::{mul_i32_wide, mul_u32_wide, Real, Q16};
+use crate::real::{mul_i32_wide, mul_u32_wide, top_bit, Real, Q16};
 pub use crate::render::FixedLimit;
 use crate::render::{check, drive, RenderError, RenderSettings, Stats};
 use crate::scene::{Projection, Scene, Shape};
@@ -75,36 +75,38 @@ const LIFT16: i32 = 256;
 /// vertices.
 const CACHE: usize = 64;
 
-/// `2^30 / √f` at the middle of each `f` interval `[i/128, (i+1)/128)`,
-/// `i` in `32..128`: the start of [`rsqrt_q30`]'s Newton steps.
-const RSQRT_START: [u32; 96] = [
-    2130900515, 2098855072, 2068213208, 2038875364, 2010751598, 1983760420, 1957827796, 1932886296,
-    1908874354, 1885735628, 1863418444, 1841875310, 1821062491, 1800939636, 1781469447, 1762617387,
-    1744351429, 1726641819, 1709460876, 1692782810, 1676583559, 1660840642, 1645533028, 1630641020,
-    1616146146, 1602031062, 1588279468, 1574876026, 1561806289, 1549056637, 1536614214, 1524466875,
-    1512603139, 1501012140, 1489683584, 1478607716, 1467775280, 1457177486, 1446805984, 1436652834,
-    1426710480, 1416971728, 1407429723, 1398077927, 1388910104, 1379920300, 1371102827, 1362452250,
-    1353963368, 1345631207, 1337451002, 1329418191, 1321528399, 1313777432, 1306161267, 1298676040,
-    1291318043, 1284083712, 1276969620, 1269972473, 1263089103, 1256316458, 1249651603, 1243091706,
-    1236634043, 1230275986, 1224014999, 1217848637, 1211774541, 1205790433, 1199894112, 1194083452,
-    1188356400, 1182710970, 1177145240, 1171657354, 1166245512, 1160907976, 1155643060, 1150449133,
-    1145324612, 1140267967, 1135277711, 1130352405, 1125490652, 1120691096, 1115952423, 1111273357,
-    1106652658, 1102089122, 1097581581, 1093128899, 1088729972, 1084383727, 1080089122, 1075845140,
-];
+/// `2^15 / √f` at the middle of each `f` interval `[i/256, (i+1)/256)`,
+/// `i` in `64..256`, less 2^15 (so that it fits a `u16`): the start of
+/// [`rsqrt_q30`]'s Newton steps (error below 2^-8).
+const RSQRT_START: [u16; 192] = {
+    let mut t = [0u16; 192];
+    let mut i = 0;
+    while i < 192 {
+        // 2^15 / √((i + 64 + ½) / 256) = √(2^39 / (2i + 129)).
+        let y = ((1u64 << 39) / (2 * i as u64 + 129)).isqrt();
+        t[i] = (y - (1 << 15)) as u16;
+        i += 1;
+    }
+    t
+};
 
-/// `2^30 / √f` for `f = x / 2^32` in `[1/4, 1)` (`x` in `[2^30, 2^32)`),
-/// in `(2^30, 2^31]`: a table start (error below 0.4%) and two Newton steps
-/// `y ← y·(3 − f·y²)/2` (each squares the error: about 2^-28 after the
-/// second, plus truncation; always from below). Integer multiplies only, no division.
+/// `2^46 / √x` for `x` in `[2^30, 2^32)` (`2^30 / √f`, `f = x / 2^32` in
+/// `[1/4, 1)`), in `(2^30, 2^31]`: a table start and two Newton steps
+/// `y ← y + y·(1 − f·y²)/2`, the first in 32-bit products from a 15-bit
+/// start (error about 2^-15.5 after it), the second with three 64-bit
+/// ones (about 2^-28 after it, plus truncation). No division.
 #[inline]
 fn rsqrt_q30(x: u32) -> u32 {
-    let mut y = RSQRT_START[(x >> 25) as usize - 32];
-    for _ in 0..2 {
-        let y2 = (mul_u32_wide(y, y) >> 30).min(u32::MAX as u64) as u32;
-        let fy2 = (mul_u32_wide(y2, x) >> 32) as u32;
-        y = (mul_u32_wide(y, (3u32 << 30).saturating_sub(fy2)) >> 31) as u32;
-    }
-    y
+    let i = ((x >> 24) as usize)
+        .wrapping_sub(64)
+        .min(RSQRT_START.len() - 1);
+    let y0 = RSQRT_START[i] as u32 + (1 << 15);
+    // 1 − f·y0² in Q30 (|ε| < 2^23).
+    let e0 = (1 << 30) - (mul_u32_wide(x, y0 * y0) >> 32) as i32;
+    let y1 = (y0 << 15).wrapping_add(((y0 as i32 * (e0 >> 8)) >> 8) as u32);
+    let y1sq = (mul_u32_wide(y1, y1) >> 30).min(u32::MAX as u64) as u32;
+    let e1 = (1 << 30) - (mul_u32_wide(x, y1sq) >> 32) as i32;
+    y1.wrapping_add((((y1 >> 16) as i32 * e1) >> 15) as u32)
 }
 
 /// `v / |v|` in Q30 (each component within ±2^30, truncated towards zero;
@@ -112,22 +114,26 @@ fn rsqrt_q30(x: u32) -> u32 {
 /// by a power of two so its largest component is in `[2^29, 2^30)`, so the
 /// precision does not depend on `v`'s size.
 pub fn unit_q30(v: [i32; 3]) -> [i32; 3] {
-    let m = v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
+    let [a, b, c] = v.map(|c| c.unsigned_abs());
+    let m = a.max(b).max(c);
     if m == 0 {
         return [0; 3];
     }
-    let shift = m.leading_zeros() as i32 - 2;
-    let w = v.map(|c| if shift >= 0 { c << shift } else { c >> -shift });
+    let shift = 29 - top_bit(m) as i32;
+    let scale = |c: u32| if shift >= 0 { c << shift } else { c >> -shift };
+    let (a, b, c) = (scale(a), scale(b), scale(c));
     // n2 = |w|² in [2^58, 2^62); x = n2·4^j in [2^60, 2^62), j in {0, 1}.
-    let n2: u64 = w
-        .iter()
-        .map(|&c| mul_u32_wide(c.unsigned_abs(), c.unsigned_abs()))
-        .sum();
-    let j = u32::from(n2 < 1 << 60);
-    let x = ((n2 << (2 * j)) >> 30) as u32;
+    let n2 = mul_u32_wide(a, a) + mul_u32_wide(b, b) + mul_u32_wide(c, c);
+    let high = (n2 >> 32) as u32;
+    let (x, j) = if high >> 28 == 0 {
+        ((n2 >> 28) as u32, 1)
+    } else {
+        ((n2 >> 30) as u32, 0)
+    };
     // 2^61 / |w| = rsqrt_q30(x) · 2^j, in (2^30, 2^32].
-    let inv = ((rsqrt_q30(x) as u64) << j).min(u32::MAX as u64) as u32;
-    w.map(|c| signed(mul_u32_wide(c.unsigned_abs(), inv) >> 31, c))
+    let inv = rsqrt_q30(x).saturating_mul(1 << j);
+    let unit = |w: u32, like: i32| signed(mul_u32_wide(w, inv) >> 31, like);
+    [unit(a, v[0]), unit(b, v[1]), unit(c, v[2])]
 }
 
 /// `magnitude` (below 2^31) with the sign of `like`.
@@ -138,6 +144,18 @@ fn signed(magnitude: u64, like: i32) -> i32 {
         -q
     } else {
         q
+    }
+}
+
+/// `⌊a·r / 2^s⌋` for `a < 2^16`, `r < 2^32`, when it is below 2^31: two
+/// 16×16-bit products, no 64-bit shift (a runtime call on ARMv6-M).
+#[inline]
+fn mul_shift_u16(a: u32, r: u32, s: u32) -> u32 {
+    let (high, low) = (a * (r >> 16), a * (r & 0xffff));
+    if s >= 16 {
+        (high + (low >> 16)) >> (s - 16)
+    } else {
+        (high << (16 - s)) + (low >> s)
     }
 }
 
@@ -152,16 +170,16 @@ fn quadrant_normal_q28(a: i32, b: i32) -> [i32; 3] {
     let (x, e) = if len2 >= 1 << 32 {
         ((len2 >> 2) as u32, 1)
     } else {
-        let up = (len2 as u32).leading_zeros() & !1;
+        let up = (31 - top_bit(len2 as u32)) & !1;
         ((len2 as u32) << up, -((up / 2) as i32))
     };
     // 2^28 / √len2 = rsqrt_q30(x) / 2^(18 + e), rsqrt_q30(x) = 2^46 / √x.
     let r = rsqrt_q30(x);
     let s = (18 + e) as u32;
     [
-        signed(mul_u32_wide(ua, r) >> s, -a),
+        signed(mul_shift_u16(ua, r, s) as u64, -a),
         (r >> s) as i32,
-        signed(mul_u32_wide(ub, r) >> s, -b),
+        signed(mul_shift_u16(ub, r, s) as u64, -b),
     ]
 }
 
@@ -170,7 +188,7 @@ fn quadrant_normal_q28(a: i32, b: i32) -> [i32; 3] {
 #[inline]
 fn reduce15(v: [i32; 3]) -> [i32; 3] {
     let m = v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
-    let top = 32 - m.leading_zeros() as i32;
+    let top = if m == 0 { 0 } else { top_bit(m) as i32 + 1 };
     let shift = (top - 15).max(0);
     v.map(|c| c >> shift)
 }
@@ -284,7 +302,7 @@ fn normalize_q16(v: [i32; 3]) -> Option<([i32; 3], i32)> {
     if m == 0 {
         return None;
     }
-    let k = 31 - m.leading_zeros() as i32 - 16;
+    let k = top_bit(m) as i32 - 16;
     let d = if k >= 0 {
         v.map(|c| c >> k)
     } else {

@@ -100,6 +100,11 @@ pub trait Real:
     /// Floats walk in the caller's `t`.
     const NORMALIZED_T: bool = false;
 
+    /// `true` for types with no infinities or NaNs (fixed point:
+    /// [`is_finite`](Self::is_finite) is always `true`, division
+    /// saturates), so the walk need not test for reciprocals that overflow.
+    const ALL_FINITE: bool = false;
+
     /// The walk's height coordinate is object `y` times this (a power of
     /// two, so exact), and [`from_height_units`](Self::from_height_units)
     /// scales alike. 1 for floats; fixed point uses more of its fraction
@@ -308,6 +313,30 @@ fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) ->
     x < x_limit && a >= 1.0 / range && x * a <= range
 }
 
+/// `⌊log2 x⌋` (0 for 0): a binary search, since ARMv6-M has no `clz` (the
+/// runtime's `__clzsi2` costs 33 instructions a call).
+#[inline]
+pub(crate) fn top_bit(mut x: u32) -> u32 {
+    let mut n = 0;
+    if x >> 16 != 0 {
+        x >>= 16;
+        n += 16;
+    }
+    if x >> 8 != 0 {
+        x >>= 8;
+        n += 8;
+    }
+    if x >> 4 != 0 {
+        x >>= 4;
+        n += 4;
+    }
+    if x >> 2 != 0 {
+        x >>= 2;
+        n += 2;
+    }
+    n + (x >> 1)
+}
+
 /// `a · b` exactly, from four 16×16-bit products: ARMv6-M (Cortex-M0) has no
 /// 32×32→64-bit multiply, and the runtime's `__aeabi_lmul` multiplies 64 by
 /// 64 bits (about three times the work).
@@ -395,6 +424,129 @@ mod fixed_point {
     #[inline(always)]
     fn mul_q16(a: I16F16, b: I16F16) -> I16F16 {
         a.saturating_mul(b)
+    }
+
+    /// `1/x` in Q15 (`2^23 / (i + ½)`, in `(2^15, 2^16)`) at the middle of
+    /// each interval `x` in `[i/256, (i+1)/256)`, `i` in `128..256`: the
+    /// start of [`div_q16_halves`]' reciprocal (error below 2^-8).
+    #[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+    const RECIP_START: [u16; 128] = {
+        let mut t = [0u16; 128];
+        let mut i = 0;
+        while i < 128 {
+            t[i] = ((1u32 << 24) / (2 * i as u32 + 257)) as u16;
+            i += 1;
+        }
+        t
+    };
+
+    use super::top_bit;
+
+    /// Q16's quotient `a / b` (`b ≠ 0`) exactly as `I16F16::saturating_div`:
+    /// `(a·2^16) / b` truncated towards zero, saturated. Without a divide
+    /// instruction (ARMv6-M), the runtime's 64-bit division costs about 320
+    /// instructions; this is a reciprocal of `b` (a table start and two
+    /// Newton steps, 32-bit products), a quotient from it that is at most a
+    /// few units short or over, and the exact remainder to correct it.
+    #[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+    #[inline(never)]
+    pub(crate) fn div_q16_halves(a: I16F16, b: I16F16) -> I16F16 {
+        use super::mul_u32_wide;
+        let (a, b) = (a.to_bits(), b.to_bits());
+        let negative = (a ^ b) < 0;
+        let (n, d) = (a.unsigned_abs(), b.unsigned_abs());
+        // |quotient| ≥ 2^31 ⟺ n·2^16 ≥ d·2^31 ⟺ ⌊n / 2^15⌋ ≥ d (−2^31 is MIN too).
+        if n >> 15 >= d {
+            return if negative { I16F16::MIN } else { I16F16::MAX };
+        }
+        // d·2^s in [2^31, 2^32): x = dn / 2^32 in [1/2, 1).
+        let s = 31 - top_bit(d);
+        let dn = d << s;
+        // `dn >> 24` is in 128..256.
+        let y0 = RECIP_START[(dn >> 24) as usize & 127] as u32;
+        // y ← y + y·(1 − x·y): 1 − x·y0 in Q30 (|e| < 2^23), y1 in Q30.
+        let e0 = (1i32 << 30).wrapping_sub((mul_u32_wide(dn, y0) >> 17) as i32);
+        let y1 = (y0 << 15).wrapping_add(((y0 as i32 * (e0 >> 8)) >> 7) as u32);
+        let e1 = (1i32 << 30).wrapping_sub((mul_u32_wide(dn, y1) >> 32) as i32);
+        let y2 = y1.wrapping_add((((y1 >> 16) as i32 * e1) >> 14) as u32);
+        // 2^63 / dn in Q31 of 1/x (2^32 at x = 1/2, clamped).
+        let v = y2.saturating_mul(2);
+        // The numerator n·2^(16+s) < 2^31·dn < 2^63; its high word, times v.
+        let high = if s <= 16 {
+            n >> (16 - s)
+        } else {
+            n << (s - 16)
+        };
+        let mut q = (mul_u32_wide(high, v) >> 31) as u32;
+        // Exact remainder n·2^16 − q·d, brought into [0, d).
+        let numerator = (n as u64) << 16;
+        let mut product = mul_u32_wide(q, d);
+        while product > numerator {
+            q -= 1;
+            product -= d as u64;
+        }
+        while numerator - product >= d as u64 {
+            q += 1;
+            product += d as u64;
+        }
+        let q = q as i32;
+        I16F16::from_bits(if negative { q.wrapping_neg() } else { q })
+    }
+
+    /// Q16's quotient on 32-bit targets: [`div_q16_halves`] (`b ≠ 0`).
+    #[cfg(not(target_pointer_width = "64"))]
+    #[inline(always)]
+    fn div_q16(a: I16F16, b: I16F16) -> I16F16 {
+        div_q16_halves(a, b)
+    }
+
+    /// Q16's quotient on 64-bit targets: `I16F16::saturating_div` (one
+    /// 64-bit division); `div_q16_halves` gives the same bits (tested below).
+    #[cfg(target_pointer_width = "64")]
+    #[inline(always)]
+    fn div_q16(a: I16F16, b: I16F16) -> I16F16 {
+        a.saturating_div(b)
+    }
+
+    #[cfg(test)]
+    #[test]
+    fn q16_reciprocal_quotient_is_i16f16_saturating_div() {
+        let mut x = 0x7f4a_7c15u32;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x
+        };
+        let edges = [
+            1,
+            -1,
+            2,
+            i32::MAX,
+            i32::MIN,
+            1 << 16,
+            -(1 << 16),
+            0x7fff,
+            0x8000,
+            3,
+        ];
+        let mut values = heapless::Vec::<i32, 3100>::new();
+        values.extend_from_slice(&edges).unwrap();
+        for _ in 0..3000 {
+            let v = next();
+            values.push((v as i32) >> (next() % 32)).unwrap();
+        }
+        let mut a_values = values.clone();
+        a_values.push(0).unwrap();
+        for &a in &a_values {
+            for &b in values.iter().step_by(3) {
+                if b == 0 {
+                    continue;
+                }
+                let (a, b) = (I16F16::from_bits(a), I16F16::from_bits(b));
+                assert_eq!(div_q16_halves(a, b), a.saturating_div(b), "{a} / {b}");
+            }
+        }
     }
 
     /// `v` in Q16, rounded to nearest (ties to even), saturated, NaN as 0:
@@ -554,6 +706,12 @@ mod fixed_point {
         }
     }
 
+    /// Q32's quotient (`I32F32::saturating_div`; `b ≠ 0`).
+    #[inline]
+    fn div_q32(a: I32F32, b: I32F32) -> I32F32 {
+        a.saturating_div(b)
+    }
+
     /// Q32's product (`I32F32::saturating_mul`).
     #[inline]
     fn mul_q32(a: I32F32, b: I32F32) -> I32F32 {
@@ -561,7 +719,7 @@ mod fixed_point {
     }
 
     macro_rules! fixed_real {
-        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path, $strict:path, $from_f32:path) => {
+        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path, $div:path, $strict:path, $from_f32:path) => {
             $(#[$doc])*
             #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
             pub struct $name(pub $inner);
@@ -603,7 +761,7 @@ mod fixed_point {
                             $name(<$inner>::ZERO)
                         };
                     }
-                    $name(self.0.saturating_div(o.0))
+                    $name($div(self.0, o.0))
                 }
             }
             impl Neg for $name {
@@ -620,6 +778,7 @@ mod fixed_point {
                 const MAX: Self = $name(<$inner>::MAX);
                 const EPSILON: Self = $name(<$inner>::DELTA);
                 const NORMALIZED_T: bool = true;
+                const ALL_FINITE: bool = true;
                 const Y_SCALE: f64 = (1u64 << $ylog2) as f64;
                 #[inline]
                 fn from_f32(v: f32) -> Self {
@@ -690,6 +849,7 @@ mod fixed_point {
         16,
         8,
         mul_q16,
+        div_q16,
         strict_q16,
         q16_from_f32
     );
@@ -703,6 +863,7 @@ mod fixed_point {
         32,
         16,
         mul_q32,
+        div_q32,
         strict_q32,
         q32_from_f32
     );
