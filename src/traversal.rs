@@ -980,9 +980,9 @@ pub(crate) fn nearest<S: Real>(
     // multiplied by it; the hit's t is divided back. Ordinary rays never
     // take this branch, so their results are unchanged.
     let d = &ray.direction;
-    let tiny = d
-        .iter()
-        .any(|&v| v != S::ZERO && v.is_finite() && !(S::ONE / v).is_finite());
+    let tiny = !S::ALL_FINITE
+        && d.iter()
+            .any(|&v| v != S::ZERO && v.is_finite() && !(S::ONE / v).is_finite());
     if tiny {
         let m = d[0].abs().max(d[1].abs()).max(d[2].abs());
         if m > S::ZERO && m.is_finite() {
@@ -1050,9 +1050,9 @@ pub(crate) fn nearest_in_column<S: Real>(
     counters: &mut Counters,
 ) -> Option<GridHit<S>> {
     let d = &ray.direction;
-    let tiny = d
-        .iter()
-        .any(|&v| v != S::ZERO && v.is_finite() && !(S::ONE / v).is_finite());
+    let tiny = !S::ALL_FINITE
+        && d.iter()
+            .any(|&v| v != S::ZERO && v.is_finite() && !(S::ONE / v).is_finite());
     if tiny {
         column.clear();
         return nearest(field, ray, t_min, t_max, false, counters);
