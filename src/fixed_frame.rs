@@ -94,8 +94,9 @@ const RSQRT_START: [u16; 192] = {
 /// `[1/4, 1)`), in `(2^30, 2^31]`: a table start and two Newton steps
 /// `y ← y + y·(1 − f·y²)/2`, the first in 32-bit products from a 15-bit
 /// start (error about 2^-15.5 after it), the second with three 64-bit
-/// ones (about 2^-28 after it, plus truncation). No division.
-#[inline]
+/// ones (about 2^-28 after it, plus truncation). No division. Out of
+/// line: inlined in its two callers it costs 200 bytes of M0 code.
+#[inline(never)]
 fn rsqrt_q30(x: u32) -> u32 {
     let i = ((x >> 24) as usize)
         .wrapping_sub(64)
@@ -193,10 +194,30 @@ fn reduce15(v: [i32; 3]) -> [i32; 3] {
     v.map(|c| c >> shift)
 }
 
-/// Q30 to Q14.
-#[inline]
-fn q14(v: [i32; 3]) -> [i32; 3] {
-    v.map(|c| c >> 16)
+/// `v / |v|` in Q14 (each component within 1 step of it, rounded: what
+/// the shading's `i32` dot products take), zero for a zero vector: `v`
+/// scaled by a power of two so its largest component is in `[2^15, 2^16)`,
+/// whose squares sum in 32 bits (with a carry), and 16×16-bit products.
+fn unit_q14(v: [i32; 3]) -> [i32; 3] {
+    let [a, b, c] = v.map(|c| c.unsigned_abs());
+    let m = a.max(b).max(c);
+    if m == 0 {
+        return [0; 3];
+    }
+    let shift = 15 - top_bit(m) as i32;
+    let scale = |c: u32| if shift >= 0 { c << shift } else { c >> -shift };
+    let (a, b, c) = (scale(a), scale(b), scale(c));
+    // s = |w|² in [2^30, 3·2^32); x = s / 4^j in [2^30, 2^32).
+    let s = (a * a) as u64 + (b * b) as u64 + (c * c) as u64;
+    let (x, j) = if s >> 32 == 0 {
+        (s as u32, 0)
+    } else {
+        ((s >> 2) as u32, 1)
+    };
+    // 2^14 / |w| = rsqrt_q30(x) / 2^(32 + j); rounded at the last bit.
+    let r = rsqrt_q30(x);
+    let unit = |w: u32, like: i32| signed(((mul_shift_u16(w, r, 31 + j) + 1) >> 1) as u64, like);
+    [unit(a, v[0]), unit(b, v[1]), unit(c, v[2])]
 }
 
 /// Dot product of two Q14 vectors, Q28.
@@ -617,7 +638,7 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
         if self.lit {
             for light in self.lights.iter() {
                 let to_light = [0, 1, 2].map(|k| light.grid[k] - point[k]);
-                let l = q14(unit_q30(self.to_world.apply(reduce15(to_light))));
+                let l = unit_q14(self.to_world.apply(reduce15(to_light)));
                 let cos = dot14(n, l);
                 // The float frame lights `cos > 1e-10` (Q28: > 0).
                 if cos <= 0 || to_light == [0; 3] {
@@ -684,7 +705,7 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
     /// A raw-space normal carried to world space and normalised (Q14).
     #[inline]
     fn raw_normal_world(&self, raw: [i32; 3]) -> [i32; 3] {
-        q14(unit_q30(self.normal_to_world.apply(reduce15(raw))))
+        unit_q14(self.normal_to_world.apply(reduce15(raw)))
     }
 
     /// POV-Ray's smooth normal (Q14, world), as
@@ -709,7 +730,7 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
         let low = lerp(n00, n10, fu);
         let high = lerp(n01, n11, fu);
         let n = [0, 1, 2].map(|k| low[k] * (ONE16 - fv) + high[k] * fv);
-        q14(unit_q30(n))
+        unit_q14(n)
     }
 
     /// A vertex normal as POV-Ray builds it (the normalised sum of the unit
@@ -717,26 +738,27 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
     /// truncated to `i16` steps of 1/32767), carried to world space (Q14).
     fn vertex_normal_world(&self, x: u32, z: u32) -> [i32; 3] {
         let field = self.field;
-        let (w, d) = (field.width() as i32, field.depth() as i32);
-        let h = |x: i32, z: i32| -> Option<i32> {
-            (x >= 0 && z >= 0 && x < w && z < d)
-                .then(|| field.height_units(x as u32, z as u32) as i32)
-        };
-        let (xi, zi) = (x as i32, z as i32);
-        let h0 = field.height_units(x, z) as i32;
+        let h = |x: u32, z: u32| field.height_units(x, z) as i32;
+        let h0 = h(x, z);
+        // The height steps along the vertex's four edges, signed by their
+        // direction (`(h − h0)·s`); `None` past the grid's edge.
+        let right = (x + 1 < field.width()).then(|| h(x + 1, z) - h0);
+        let left = (x > 0).then(|| h0 - h(x - 1, z));
+        let up = (z + 1 < field.depth()).then(|| h(x, z + 1) - h0);
+        let down = (z > 0).then(|| h0 - h(x, z - 1));
         let mut sum = [0i32; 3];
-        for (sx, sz) in [(1, 1), (-1, 1), (-1, -1), (1, -1)] {
-            let (Some(hx), Some(hz)) = (h(xi + sx, zi), h(xi, zi + sz)) else {
-                continue;
-            };
-            let q = quadrant_normal_q28((hx - h0) * sx, (hz - h0) * sz);
-            for k in 0..3 {
-                sum[k] += q[k];
+        // POV-Ray's quadrants: (+x, +z), (−x, +z), (−x, −z), (+x, −z).
+        for (du, dv) in [(right, up), (left, up), (left, down), (right, down)] {
+            if let (Some(du), Some(dv)) = (du, dv) {
+                let q = quadrant_normal_q28(du, dv);
+                sum = [sum[0] + q[0], sum[1] + q[1], sum[2] + q[2]];
             }
         }
-        let n = unit_q30(sum);
-        // (short)(32767·n), truncating towards zero.
-        let q = n.map(|c| signed(mul_u32_wide(c.unsigned_abs(), 32767) >> 30, c));
+        // (short)(32767·n), truncating towards zero: 32767·c = 2^15·c − c.
+        let q = unit_q30(sum).map(|c| {
+            let m = c.unsigned_abs() as u64;
+            signed(((m << 15) - m) >> 30, c)
+        });
         self.raw_normal_world(q)
     }
 }
@@ -866,5 +888,32 @@ mod tests {
             }
         }
         assert_eq!(unit_q30([0; 3]), [0; 3]);
+    }
+
+    /// The shading's Q14 unit vectors are within 1.5 steps of `v / |v|`
+    /// per component, over every size and direction.
+    #[test]
+    fn q14_unit_vectors_are_within_one_and_a_half_steps() {
+        let mut x = 0x1234_5679u32;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            (x as i32) >> (x % 31)
+        };
+        for _ in 0..100_000 {
+            let v = [next(), next(), next()];
+            let u = unit_q14(v);
+            let f = DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64).normalize_or_zero();
+            for k in 0..3 {
+                let got = u[k] as f64 / (1 << 14) as f64;
+                assert!(
+                    (got - f[k]).abs() <= 1.5 / (1 << 14) as f64,
+                    "{v:?} -> {u:?} vs {f}"
+                );
+            }
+        }
+        assert_eq!(unit_q14([0; 3]), [0; 3]);
+        assert_eq!(unit_q14([0, -7, 0]), [0, -(1 << 14), 0]);
     }
 }
