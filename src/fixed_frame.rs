@@ -226,6 +226,13 @@ fn dot14(a: [i32; 3], b: [i32; 3]) -> i32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// The `e` for which `v`'s largest magnitude times `2^e` is in
+/// `[2^top, 2^(top+1))`; `None` if that is zero or not finite.
+fn pow2_exponent(v: DVec3, top: i32) -> Option<i32> {
+    let m = v.abs().max_element();
+    (m > 0.0 && m.is_finite()).then(|| top - libm::frexp(m).1 + 1)
+}
+
 /// A 3×3 matrix in integers with a scale of its own per column, so that a
 /// column of tiny entries keeps its precision next to one of large entries
 /// (the field's y is 256 or 65536 times finer than its x and z). Applied to
@@ -242,14 +249,7 @@ struct ColumnScaled {
 impl ColumnScaled {
     fn new(cols: [DVec3; 3]) -> Self {
         // Column c: entries × 2^e_c, largest in [2^12, 2^13).
-        let e = cols.map(|c| {
-            let m = c.abs().max_element();
-            if m > 0.0 && m.is_finite() {
-                12 - libm::frexp(m).1 + 1
-            } else {
-                i32::MAX
-            }
-        });
+        let e = cols.map(|c| pow2_exponent(c, 12).unwrap_or(i32::MAX));
         let finest = e.iter().copied().min().unwrap_or(0);
         let mut m = [[0i32; 3]; 3];
         let mut shift = [0u32; 3];
@@ -294,11 +294,9 @@ impl PixelAffine {
     /// keeps every value over the image (its corners) below 2^29.
     fn new(a: DVec3, b: DVec3, c: DVec3, width: u32, height: u32) -> Self {
         let bound = a.abs() + b.abs() * width as f64 + c.abs() * height as f64;
-        let m = bound.max_element();
-        if !(m > 0.0 && m.is_finite()) {
+        let Some(s) = pow2_exponent(bound, 28) else {
             return PixelAffine::default();
-        }
-        let s = 28 - libm::frexp(m).1 + 1;
+        };
         let k = libm::ldexp(1.0, s);
         let r = |v: DVec3| v.to_array().map(|x| libm::round(x * k) as i32);
         PixelAffine {

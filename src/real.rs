@@ -314,8 +314,9 @@ fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) ->
 }
 
 /// `⌊log2 x⌋` (0 for 0): a binary search, since ARMv6-M has no `clz` (the
-/// runtime's `__clzsi2` costs 33 instructions a call).
-#[inline]
+/// runtime's `__clzsi2` costs 33 instructions a call). Out of line: it
+/// has eight callers in the fixed frame.
+#[inline(never)]
 pub(crate) fn top_bit(mut x: u32) -> u32 {
     let mut n = 0;
     if x >> 16 != 0 {
