@@ -133,7 +133,8 @@ pub fn unit_q30(v: [i32; 3]) -> [i32; 3] {
         ((n2 >> 30) as u32, 0)
     };
     // 2^61 / |w| = rsqrt_q30(x) · 2^j, in (2^30, 2^32].
-    let inv = rsqrt_q30(x).saturating_mul(1 << j);
+    let r = rsqrt_q30(x);
+    let inv = if j == 1 { r.saturating_add(r) } else { r };
     let unit = |w: u32, like: i32| signed(mul_u32_wide(w, inv) >> 31, like);
     [unit(a, v[0]), unit(b, v[1]), unit(c, v[2])]
 }
@@ -753,10 +754,13 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
                 sum = [sum[0] + q[0], sum[1] + q[1], sum[2] + q[2]];
             }
         }
-        // (short)(32767·n), truncating towards zero: 32767·c = 2^15·c − c.
+        // (short)(32767·n), truncating towards zero.
         let q = unit_q30(sum).map(|c| {
-            let m = c.unsigned_abs() as u64;
-            signed(((m << 15) - m) >> 30, c)
+            // In 32-bit halves (m = m₁·2^15 + m₀, m ≤ 2^30): as one
+            // product the compiler calls the runtime's 64×64-bit multiply.
+            let m = c.unsigned_abs();
+            let (m1, m0) = (m >> 15, m & 0x7fff);
+            signed(((m1 * 32767 + ((m0 * 32767) >> 15)) >> 15) as u64, c)
         });
         self.raw_normal_world(q)
     }

@@ -472,7 +472,7 @@ mod fixed_point {
         let e1 = (1i32 << 30).wrapping_sub((mul_u32_wide(dn, y1) >> 32) as i32);
         let y2 = y1.wrapping_add((((y1 >> 16) as i32 * e1) >> 14) as u32);
         // 2^63 / dn in Q31 of 1/x (2^32 at x = 1/2, clamped).
-        let v = y2.saturating_mul(2);
+        let v = y2.saturating_add(y2);
         // The numerator n·2^(16+s) < 2^31·dn < 2^63; its high word, times v.
         let high = if s <= 16 {
             n >> (16 - s)
