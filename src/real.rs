@@ -313,29 +313,35 @@ fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) ->
     x < x_limit && a >= 1.0 / range && x * a <= range
 }
 
-/// `⌊log2 x⌋` (0 for 0): a binary search, since ARMv6-M has no `clz` (the
-/// runtime's `__clzsi2` costs 33 instructions a call). Out of line: it
-/// has eight callers in the fixed frame.
+/// `⌊log2 b⌋` for each byte `b` (0 for 0).
+const TOP_BIT_OF_BYTE: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut b = 2;
+    while b < 256 {
+        t[b] = t[b / 2] + 1;
+        b += 1;
+    }
+    t
+};
+
+/// `⌊log2 x⌋` (0 for 0): the highest non-zero byte's entry in a table,
+/// since ARMv6-M has no `clz` (the runtime's `__clzsi2` costs 33
+/// instructions a call). Out of line: it has eight callers in the fixed
+/// frame.
 #[inline(never)]
-pub(crate) fn top_bit(mut x: u32) -> u32 {
-    let mut n = 0;
-    if x >> 16 != 0 {
-        x >>= 16;
-        n += 16;
-    }
-    if x >> 8 != 0 {
-        x >>= 8;
-        n += 8;
-    }
-    if x >> 4 != 0 {
-        x >>= 4;
-        n += 4;
-    }
-    if x >> 2 != 0 {
-        x >>= 2;
-        n += 2;
-    }
-    n + (x >> 1)
+pub(crate) fn top_bit(x: u32) -> u32 {
+    let (byte, base) = if x >> 16 != 0 {
+        if x >> 24 != 0 {
+            (x >> 24, 24)
+        } else {
+            (x >> 16, 16)
+        }
+    } else if x >> 8 != 0 {
+        (x >> 8, 8)
+    } else {
+        (x, 0)
+    };
+    base + TOP_BIT_OF_BYTE[byte as usize & 255] as u32
 }
 
 /// `a · b` exactly, from four 16×16-bit products: ARMv6-M (Cortex-M0) has no
@@ -508,6 +514,18 @@ mod fixed_point {
     #[inline(always)]
     fn div_q16(a: I16F16, b: I16F16) -> I16F16 {
         a.saturating_div(b)
+    }
+
+    #[cfg(test)]
+    #[test]
+    fn top_bit_is_the_highest_set_bit() {
+        assert_eq!(super::top_bit(0), 0);
+        for k in 0..32 {
+            for low in [0, 1, (1u32 << k) - 1] {
+                let x = (1u32 << k) | (low & ((1u32 << k) - 1));
+                assert_eq!(super::top_bit(x), 31 - x.leading_zeros(), "{x:#x}");
+            }
+        }
     }
 
     #[cfg(test)]
