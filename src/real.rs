@@ -314,6 +314,7 @@ fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) ->
 }
 
 /// `⌊log2 b⌋` for each byte `b` (0 for 0).
+#[cfg(feature = "fixed-frame")]
 const TOP_BIT_OF_BYTE: [u8; 256] = {
     let mut t = [0u8; 256];
     let mut b = 2;
@@ -328,6 +329,7 @@ const TOP_BIT_OF_BYTE: [u8; 256] = {
 /// since ARMv6-M has no `clz` (the runtime's `__clzsi2` costs 33
 /// instructions a call). Out of line: it has eight callers in the fixed
 /// frame.
+#[cfg(feature = "fixed-frame")]
 #[inline(never)]
 pub(crate) fn top_bit(x: u32) -> u32 {
     let (byte, base) = if x >> 16 != 0 {
