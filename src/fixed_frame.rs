@@ -186,14 +186,19 @@ fn quadrant_normal_q28(a: i32, b: i32) -> [i32; 3] {
     ]
 }
 
-/// `v` shifted right by a common amount until every component is below
-/// 2^15 in magnitude (directions only: the shift changes the length).
+/// `v` shifted right by a common amount (rounding) until every component
+/// is at most 2^15 in magnitude (directions only: the shift changes the
+/// length).
 #[inline]
 fn reduce15(v: [i32; 3]) -> [i32; 3] {
     let m = v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
     let top = if m == 0 { 0 } else { top_bit(m) as i32 + 1 };
     let shift = (top - 15).max(0);
-    v.map(|c| c >> shift)
+    if shift == 0 {
+        return v;
+    }
+    // Rounded to nearest, as `normalize_q16`: at most 2^15 in magnitude.
+    v.map(|c| ((c >> (shift - 1)) + 1) >> 1)
 }
 
 /// `v / |v|` in Q14 (each component within 1 step of it, rounded: what
@@ -324,8 +329,12 @@ fn normalize_q16(v: [i32; 3]) -> Option<([i32; 3], i32)> {
         return None;
     }
     let k = top_bit(m) as i32 - 16;
-    let d = if k >= 0 {
-        v.map(|c| c >> k)
+    let d = if k > 0 {
+        // Rounded to nearest (a floor biases every ray's direction by up
+        // to a whole step); the largest component is at most 2^17.
+        v.map(|c| ((c >> (k - 1)) + 1) >> 1)
+    } else if k == 0 {
+        v
     } else {
         v.map(|c| c << -k)
     };
