@@ -100,6 +100,11 @@ pub trait Real:
     /// Floats walk in the caller's `t`.
     const NORMALIZED_T: bool = false;
 
+    /// `true` for types with no infinities or NaNs (fixed point:
+    /// [`is_finite`](Self::is_finite) is always `true`, division
+    /// saturates), so the walk need not test for reciprocals that overflow.
+    const ALL_FINITE: bool = false;
+
     /// The walk's height coordinate is object `y` times this (a power of
     /// two, so exact), and [`from_height_units`](Self::from_height_units)
     /// scales alike. 1 for floats; fixed point uses more of its fraction
@@ -308,6 +313,39 @@ fn float_strict(o: f64, inv: f64, lo: i32, hi: i32, x_limit: f64, range: f64) ->
     x < x_limit && a >= 1.0 / range && x * a <= range
 }
 
+/// `⌊log2 b⌋` for each byte `b` (0 for 0).
+#[cfg(feature = "fixed-frame")]
+const TOP_BIT_OF_BYTE: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut b = 2;
+    while b < 256 {
+        t[b] = t[b / 2] + 1;
+        b += 1;
+    }
+    t
+};
+
+/// `⌊log2 x⌋` (0 for 0): the highest non-zero byte's entry in a table,
+/// since ARMv6-M has no `clz` (the runtime's `__clzsi2` costs 33
+/// instructions a call). Out of line: it has eight callers in the fixed
+/// frame.
+#[cfg(feature = "fixed-frame")]
+#[inline(never)]
+pub(crate) fn top_bit(x: u32) -> u32 {
+    let (byte, base) = if x >> 16 != 0 {
+        if x >> 24 != 0 {
+            (x >> 24, 24)
+        } else {
+            (x >> 16, 16)
+        }
+    } else if x >> 8 != 0 {
+        (x >> 8, 8)
+    } else {
+        (x, 0)
+    };
+    base + TOP_BIT_OF_BYTE[byte as usize & 255] as u32
+}
+
 /// `a · b` exactly, from four 16×16-bit products: ARMv6-M (Cortex-M0) has no
 /// 32×32→64-bit multiply, and the runtime's `__aeabi_lmul` multiplies 64 by
 /// 64 bits (about three times the work).
@@ -343,12 +381,36 @@ mod fixed_point {
     /// `I16F16::saturating_mul`, from 16-bit halves (`a = a₁·2^16 + a₀`,
     /// `a₁` signed, `a₀` unsigned): `a₁b₁·2^16 + a₁b₀ + a₀b₁ + ⌊a₀b₀/2^16⌋`
     /// is exact because only `a₀b₀` has bits below 2^16. Four 32-bit
-    /// multiplies: the Cortex-M0 has no 64-bit one. Out of line: the walk
-    /// multiplies in many places, and inlined it costs 9 KB of M0 code.
+    /// multiplies: the Cortex-M0 has no 64-bit one. Each term is exact in
+    /// `i32`, so their sum taken modulo 2^32 is the product whenever that
+    /// fits: `|a| ≤ F_a·2^16` with `F_a = ⌊|a|/2^16⌋ + 1` (or `⌊…⌋` for
+    /// negative `a`, from `a ^ (a >> 31)` without a negation), so
+    /// `F_a·F_b ≤ 2^15` bounds `|a·b/2^16| < 2^31` (the walk's products
+    /// nearly always); otherwise the sum is taken in `i64` and saturated.
+    /// Out of line: the walk multiplies in many places, and inlined it
+    /// costs 9 KB of M0 code.
     #[cfg_attr(target_pointer_width = "64", allow(dead_code))]
     #[inline(never)]
     pub(crate) fn mul_q16_halves(a: I16F16, b: I16F16) -> I16F16 {
         let (a, b) = (a.to_bits(), b.to_bits());
+        let bound = |v: i32| (((v ^ (v >> 31)) as u32) >> 16) + 1;
+        if bound(a) * bound(b) <= 1 << 15 {
+            let (a1, a0) = (a >> 16, a & 0xffff);
+            let (b1, b0) = (b >> 16, b & 0xffff);
+            let low = ((a0 as u32 * b0 as u32) >> 16) as i32;
+            let sum = ((a1 * b1) << 16)
+                .wrapping_add(a1 * b0)
+                .wrapping_add(a0 * b1)
+                .wrapping_add(low);
+            return I16F16::from_bits(sum);
+        }
+        mul_q16_wide(a, b)
+    }
+
+    /// [`mul_q16_halves`] for any factors: the same sum in `i64`, saturated.
+    #[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+    #[inline(never)]
+    fn mul_q16_wide(a: i32, b: i32) -> I16F16 {
         let (a1, a0) = (a >> 16, a & 0xffff);
         let (b1, b0) = (b >> 16, b & 0xffff);
         let low = ((a0 as u32 * b0 as u32) >> 16) as i64;
@@ -371,6 +433,224 @@ mod fixed_point {
     #[inline(always)]
     fn mul_q16(a: I16F16, b: I16F16) -> I16F16 {
         a.saturating_mul(b)
+    }
+
+    /// `1/x` in Q15 (`2^23 / (i + ½)`, in `(2^15, 2^16)`) at the middle of
+    /// each interval `x` in `[i/256, (i+1)/256)`, `i` in `128..256`: the
+    /// start of [`div_q16_halves`]' reciprocal (error below 2^-8).
+    #[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+    const RECIP_START: [u16; 128] = {
+        let mut t = [0u16; 128];
+        let mut i = 0;
+        while i < 128 {
+            t[i] = ((1u32 << 24) / (2 * i as u32 + 257)) as u16;
+            i += 1;
+        }
+        t
+    };
+
+    use super::top_bit;
+
+    /// Q16's quotient `a / b` (`b ≠ 0`) exactly as `I16F16::saturating_div`:
+    /// `(a·2^16) / b` truncated towards zero, saturated. Without a divide
+    /// instruction (ARMv6-M), the runtime's 64-bit division costs about 320
+    /// instructions; this is a reciprocal of `b` (a table start and two
+    /// Newton steps, 32-bit products), a quotient from it that is at most a
+    /// few units short or over, and the exact remainder to correct it.
+    #[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+    #[inline(never)]
+    pub(crate) fn div_q16_halves(a: I16F16, b: I16F16) -> I16F16 {
+        use super::mul_u32_wide;
+        let (a, b) = (a.to_bits(), b.to_bits());
+        let negative = (a ^ b) < 0;
+        let (n, d) = (a.unsigned_abs(), b.unsigned_abs());
+        // |quotient| ≥ 2^31 ⟺ n·2^16 ≥ d·2^31 ⟺ ⌊n / 2^15⌋ ≥ d (−2^31 is MIN too).
+        if n >> 15 >= d {
+            return if negative { I16F16::MIN } else { I16F16::MAX };
+        }
+        // d·2^s in [2^31, 2^32): x = dn / 2^32 in [1/2, 1).
+        let s = 31 - top_bit(d);
+        let dn = d << s;
+        // `dn >> 24` is in 128..256.
+        let y0 = RECIP_START[(dn >> 24) as usize & 127] as u32;
+        // y ← y + y·(1 − x·y): 1 − x·y0 in Q30 (|e| < 2^23), y1 in Q30.
+        // (From 16-bit halves: the 2^-15 error is below what this step leaves.)
+        let e0 = (1i32 << 30).wrapping_sub((((dn >> 16) * y0) >> 1) as i32);
+        let y1 = (y0 << 15).wrapping_add(((y0 as i32 * (e0 >> 8)) >> 7) as u32);
+        let e1 = (1i32 << 30).wrapping_sub((mul_u32_wide(dn, y1) >> 32) as i32);
+        let y2 = y1.wrapping_add((((y1 >> 16) as i32 * e1) >> 14) as u32);
+        // 2^63 / dn in Q31 of 1/x (2^32 at x = 1/2, clamped).
+        let v = y2.saturating_add(y2);
+        // The numerator n·2^(16+s) < 2^31·dn < 2^63; its high word, times v.
+        let high = if s <= 16 {
+            n >> (16 - s)
+        } else {
+            n << (s - 16)
+        };
+        let mut q = (mul_u32_wide(high, v) >> 31) as u32;
+        // Exact remainder n·2^16 − q·d, brought into [0, d).
+        let numerator = (n as u64) << 16;
+        let mut product = mul_u32_wide(q, d);
+        while product > numerator {
+            q -= 1;
+            product -= d as u64;
+        }
+        while numerator - product >= d as u64 {
+            q += 1;
+            product += d as u64;
+        }
+        let q = q as i32;
+        I16F16::from_bits(if negative { q.wrapping_neg() } else { q })
+    }
+
+    /// Q16's quotient on 32-bit targets: [`div_q16_halves`] (`b ≠ 0`).
+    #[cfg(not(target_pointer_width = "64"))]
+    #[inline(always)]
+    fn div_q16(a: I16F16, b: I16F16) -> I16F16 {
+        div_q16_halves(a, b)
+    }
+
+    /// Q16's quotient on 64-bit targets: `I16F16::saturating_div` (one
+    /// 64-bit division); `div_q16_halves` gives the same bits (tested below).
+    #[cfg(target_pointer_width = "64")]
+    #[inline(always)]
+    fn div_q16(a: I16F16, b: I16F16) -> I16F16 {
+        a.saturating_div(b)
+    }
+
+    #[cfg(test)]
+    #[test]
+    fn top_bit_is_the_highest_set_bit() {
+        assert_eq!(super::top_bit(0), 0);
+        for k in 0..32 {
+            for low in [0, 1, (1u32 << k) - 1] {
+                let x = (1u32 << k) | (low & ((1u32 << k) - 1));
+                assert_eq!(super::top_bit(x), 31 - x.leading_zeros(), "{x:#x}");
+            }
+        }
+    }
+
+    #[cfg(test)]
+    #[test]
+    fn q16_reciprocal_quotient_is_i16f16_saturating_div() {
+        let mut x = 0x7f4a_7c15u32;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x
+        };
+        let edges = [
+            1,
+            -1,
+            2,
+            i32::MAX,
+            i32::MIN,
+            1 << 16,
+            -(1 << 16),
+            0x7fff,
+            0x8000,
+            3,
+        ];
+        let mut values = heapless::Vec::<i32, 3100>::new();
+        values.extend_from_slice(&edges).unwrap();
+        for _ in 0..3000 {
+            let v = next();
+            values.push((v as i32) >> (next() % 32)).unwrap();
+        }
+        let mut a_values = values.clone();
+        a_values.push(0).unwrap();
+        for &a in &a_values {
+            for &b in values.iter().step_by(3) {
+                if b == 0 {
+                    continue;
+                }
+                let (a, b) = (I16F16::from_bits(a), I16F16::from_bits(b));
+                assert_eq!(div_q16_halves(a, b), a.saturating_div(b), "{a} / {b}");
+            }
+        }
+    }
+
+    /// `v` in Q16, rounded to nearest (ties to even), saturated, NaN as 0:
+    /// `I16F16::saturating_from_num(v)` in integer arithmetic (through
+    /// `f64` it is software floating point on FPU-less chips, and the walk
+    /// converts a constant and the water level per ray).
+    #[inline]
+    fn q16_from_f32(v: f32) -> I16F16 {
+        let bits = v.to_bits();
+        let exp = ((bits >> 23) & 0xff) as i32;
+        if exp == 0xff && bits & 0x7f_ffff != 0 {
+            return I16F16::ZERO;
+        }
+        let negative = bits >> 31 != 0;
+        let saturated = if negative { I16F16::MIN } else { I16F16::MAX };
+        // |v| = m · 2^(exp − 150), so its Q16 bits are m · 2^(exp − 134).
+        let m = (bits & 0x7f_ffff) | if exp == 0 { 0 } else { 0x80_0000 };
+        let shift = exp.max(1) - 134;
+        let magnitude = if shift >= 0 {
+            // m < 2^24: 2^31 and more needs a shift of 8 or more.
+            if shift >= 8 || (m << shift) > 1 << 31 {
+                return saturated;
+            }
+            m << shift
+        } else if shift < -25 {
+            0
+        } else {
+            let k = (-shift) as u32;
+            let (q, rest, half) = (m >> k, m & ((1 << k) - 1), 1 << (k - 1));
+            q + u32::from(rest > half || (rest == half && q & 1 == 1))
+        };
+        match (negative, magnitude) {
+            (false, m) if m > i32::MAX as u32 => saturated,
+            (true, m) => I16F16::from_bits((m as i32).wrapping_neg()),
+            (false, m) => I16F16::from_bits(m as i32),
+        }
+    }
+
+    #[cfg(test)]
+    #[test]
+    fn q16_from_f32_is_saturating_from_num() {
+        let mut x = 0x9e37_79b9u32;
+        let check = |v: f32| {
+            assert_eq!(
+                q16_from_f32(v),
+                if v.is_nan() {
+                    I16F16::ZERO
+                } else {
+                    I16F16::saturating_from_num(v)
+                },
+                "{v:e} ({:#x})",
+                v.to_bits()
+            );
+        };
+        for v in [
+            0.0,
+            -0.0,
+            1.0 / 64.0,
+            32767.99,
+            32768.0,
+            -32768.0,
+            -32768.01,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            f32::MIN_POSITIVE,
+            1.5 / 65536.0,
+            2.5 / 65536.0,
+            -0.5 / 65536.0,
+            0.5 / 65536.0,
+        ] {
+            check(v);
+        }
+        // Every exponent from far below the step to past the range, with
+        // random significands, both signs.
+        for _ in 0..400_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            let exp = 100 + (x >> 8) % 50;
+            check(f32::from_bits((x & 0x807f_ffff) | (exp << 23)));
+        }
     }
 
     #[cfg(test)]
@@ -438,6 +718,22 @@ mod fixed_point {
         inv != I32F32::ZERO && x < limit && x * inv.to_num::<f64>().abs() < limit
     }
 
+    /// `v` in Q32 (`I32F32::saturating_from_num`; exact through `f64`).
+    #[inline]
+    fn q32_from_f32(v: f32) -> I32F32 {
+        if v.is_nan() {
+            I32F32::ZERO
+        } else {
+            I32F32::saturating_from_num(v as f64)
+        }
+    }
+
+    /// Q32's quotient (`I32F32::saturating_div`; `b ≠ 0`).
+    #[inline]
+    fn div_q32(a: I32F32, b: I32F32) -> I32F32 {
+        a.saturating_div(b)
+    }
+
     /// Q32's product (`I32F32::saturating_mul`).
     #[inline]
     fn mul_q32(a: I32F32, b: I32F32) -> I32F32 {
@@ -445,7 +741,7 @@ mod fixed_point {
     }
 
     macro_rules! fixed_real {
-        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path, $strict:path) => {
+        ($(#[$doc:meta])* $name:ident, $inner:ty, $bits:ty, $frac:expr, $ylog2:expr, $mul:path, $div:path, $strict:path, $from_f32:path) => {
             $(#[$doc])*
             #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
             pub struct $name(pub $inner);
@@ -487,7 +783,7 @@ mod fixed_point {
                             $name(<$inner>::ZERO)
                         };
                     }
-                    $name(self.0.saturating_div(o.0))
+                    $name($div(self.0, o.0))
                 }
             }
             impl Neg for $name {
@@ -504,10 +800,11 @@ mod fixed_point {
                 const MAX: Self = $name(<$inner>::MAX);
                 const EPSILON: Self = $name(<$inner>::DELTA);
                 const NORMALIZED_T: bool = true;
+                const ALL_FINITE: bool = true;
                 const Y_SCALE: f64 = (1u64 << $ylog2) as f64;
                 #[inline]
                 fn from_f32(v: f32) -> Self {
-                    Self::from_f64(v as f64)
+                    $name($from_f32(v))
                 }
                 #[inline]
                 fn from_f64(v: f64) -> Self {
@@ -542,6 +839,12 @@ mod fixed_point {
                 fn from_height_units(units: u32) -> Self {
                     $name(<$inner>::from_bits((units as $bits) << ($frac - 16 + $ylog2)))
                 }
+                /// `level · Y_SCALE` is exact in `f32` (a power of two;
+                /// overflow saturates either way), so no `f64`.
+                #[inline]
+                fn from_water_level(level: f32) -> Self {
+                    Self::from_f32(level * Self::Y_SCALE as f32)
+                }
                 /// `k − o` is exact (both are multiples of the ulp and far
                 /// from the range limit), consecutive values differ by
                 /// exactly 1, so their exact products with `inv` differ by
@@ -568,7 +871,9 @@ mod fixed_point {
         16,
         8,
         mul_q16,
-        strict_q16
+        div_q16,
+        strict_q16,
+        q16_from_f32
     );
     fixed_real!(
         /// Q31.32 signed fixed point in an `i64` (`fixed::types::I32F32`),
@@ -580,7 +885,9 @@ mod fixed_point {
         32,
         16,
         mul_q32,
-        strict_q32
+        div_q32,
+        strict_q32,
+        q32_from_f32
     );
 }
 

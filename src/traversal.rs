@@ -1128,7 +1128,8 @@ fn ray_axes<S: Real>(d: &[S; 3]) -> [Axis<S>; 3] {
 /// one that is non-zero on a parallel axis).
 #[inline(always)]
 fn tiny<S: Real>(d: &[S; 3], axes: &[Axis<S>; 3]) -> bool {
-    (0..3).any(|k| axes[k].step == 0 && d[k] != S::ZERO && d[k].is_finite())
+    // Fixed point has no infinities: no reciprocal overflows to one.
+    !S::ALL_FINITE && (0..3).any(|k| axes[k].step == 0 && d[k] != S::ZERO && d[k].is_finite())
 }
 
 /// [`nearest`] for a primary ray that may start where the previous ray of
