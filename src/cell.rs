@@ -103,7 +103,9 @@ pub(crate) struct Cell<'r, S> {
 
 impl<S: Real> Cell<'_, S> {
     /// Samples `g` at parameter `t`, a point of the ray at `place`.
-    #[inline(always)]
+    // Inlined into each walk for speed; `compact` keeps one copy.
+    #[cfg_attr(not(feature = "compact"), inline(always))]
+    #[cfg_attr(feature = "compact", inline)]
     pub fn point(&self, t: S, place: Place) -> BoundaryPoint<S> {
         let (origin, dir, c) = (self.origin, self.dir, &self.corners);
         let y = origin[1] + t * dir[1];
@@ -160,7 +162,9 @@ impl<S: Real> Cell<'_, S> {
     /// Finds the first crossing of the ray with the cell's surface between
     /// `a` and `b`, ignoring surface below the water. `tests` counts the
     /// triangle pieces examined.
-    #[inline(always)]
+    // Inlined into each walk for speed; `compact` keeps one copy.
+    #[cfg_attr(not(feature = "compact"), inline(always))]
+    #[cfg_attr(feature = "compact", inline)]
     pub fn first_crossing(
         &self,
         a: &BoundaryPoint<S>,

@@ -255,6 +255,11 @@ pub(crate) trait WalkGrid: SampleGrid {
     fn skip(&self) -> Option<&SkipGrid<'_>>;
 }
 
+/// The walks get a second build for rays moving along both axes (no
+/// parallel-axis tests in their loops), unless the `compact` feature asks
+/// for one build of each (less code; the same hits).
+const TWO_BUILDS: bool = !cfg!(feature = "compact");
+
 /// The ray and the field's constants for one walk.
 struct Walk<S> {
     /// The ray, by value: kept in registers across the stores of a walk.
@@ -1409,7 +1414,7 @@ impl<S: Real> Walk<S> {
             let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
             let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
             if u_strict && v_strict {
-                return if au.step != 0 && av.step != 0 {
+                return if TWO_BUILDS && au.step != 0 && av.step != 0 {
                     self.walk_hdda::<true, F>(field, skip, top, start, stop, counters)
                 } else {
                     self.walk_hdda::<false, F>(field, skip, top, start, stop, counters)
@@ -1420,7 +1425,7 @@ impl<S: Real> Walk<S> {
                 return self.walk_skip(field, skip, top, start, stop, counters);
             }
         }
-        if au.step != 0 && av.step != 0 {
+        if TWO_BUILDS && au.step != 0 && av.step != 0 {
             self.walk_flat::<true, F>(field, start, stop, counters)
         } else {
             self.walk_flat::<false, F>(field, start, stop, counters)
