@@ -72,7 +72,7 @@ profile_top="${PROFILE_TOP:-12}"
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
-out="${OUT:-$root/target/firmware-run}"
+out="$(realpath -m "${OUT:-$root/target/firmware-run}")" # a relative OUT is taken from where the script was started
 run_timeout="${RUN_TIMEOUT:-600}"
 
 # --- what is needed, and is it here? -------------------------------------
@@ -145,10 +145,14 @@ build() {
     "$@" >>"$log" 2>&1 || { echo "run-qemu.sh: $what build failed (see $log)" >&2; tail -20 "$log" >&2; exit 1; }
 }
 build "host reference" bash -c "cd '$root' && cargo build --release --example firmware_host"
-build "Cortex-M firmware" bash -c "cd '$here' && cargo build --release --target thumbv6m-none-eabi --target thumbv7em-none-eabihf"
+# One target a build: features are unified across the targets of one cargo
+# invocation, and only the Cortex-M0 asks for hfray's `compact` walk.
+build "Cortex-M0 firmware" bash -c "cd '$here' && cargo build --release --target thumbv6m-none-eabi"
+build "Cortex-M4F firmware" bash -c "cd '$here' && cargo build --release --target thumbv7em-none-eabihf"
 build "i486" bash -c "cd '$here/i486' && cargo build --release --target i586-unknown-linux-gnu"
 if ((all)); then
-    build "Cortex-M firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv6m-none-eabi --target thumbv7em-none-eabihf"
+    build "Cortex-M0 firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv6m-none-eabi"
+    build "Cortex-M4F firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv7em-none-eabihf"
     build "i486 (full)" bash -c "cd '$here/i486' && cargo build --release --features full --target-dir '$i486_full_dir' --target i586-unknown-linux-gnu"
     build "Cortex-M0 firmware (minimal)" bash -c "cd '$here' && cargo build --release --no-default-features --target-dir '$fw_min_dir' --target thumbv6m-none-eabi"
 fi
