@@ -258,6 +258,9 @@
 //!   never rendered differently.
 //! - `fixed` (default): the fixed-point walks `Q16` and `Q32` (on the
 //!   `fixed` crate); `f64-walk` (default): the `f64` walk.
+//! - `compact`: each walk built once (not a second time for rays moving
+//!   along both axes) and the cell test out of line: less code for
+//!   flash-bound chips, the same hits, a few percent more instructions.
 //! - `embedded-graphics`: [`sink`]'s `DrawTargetSink` for
 //!   `embedded-graphics-core` `DrawTarget`s (no_std).
 //! - `std`: enables nothing yet; the core never needs it (every public
