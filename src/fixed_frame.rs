@@ -840,13 +840,7 @@ mod tests {
 
     #[test]
     fn q16_strictness_is_the_f64_condition() {
-        let mut x = 0x2545_f491u32;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x
-        };
+        let mut next = crate::real::xorshift32(0x2545_f491);
         for _ in 0..200_000 {
             let o = (next() as i32) >> (next() % 32);
             let inv = (next() as i32) >> (next() % 32);
@@ -906,11 +900,9 @@ mod tests {
     /// per component, over every size and direction.
     #[test]
     fn q14_unit_vectors_are_within_one_and_a_half_steps() {
-        let mut x = 0x1234_5679u32;
+        let mut bits = crate::real::xorshift32(0x1234_5679);
         let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
+            let x = bits();
             (x as i32) >> (x % 31)
         };
         for _ in 0..100_000 {

@@ -533,13 +533,7 @@ mod fixed_point {
     #[cfg(test)]
     #[test]
     fn q16_reciprocal_quotient_is_i16f16_saturating_div() {
-        let mut x = 0x7f4a_7c15u32;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x
-        };
+        let mut next = crate::real::xorshift32(0x7f4a_7c15);
         let edges = [
             1,
             -1,
@@ -610,7 +604,7 @@ mod fixed_point {
     #[cfg(test)]
     #[test]
     fn q16_from_f32_is_saturating_from_num() {
-        let mut x = 0x9e37_79b9u32;
+        let mut next = crate::real::xorshift32(0x9e37_79b9);
         let check = |v: f32| {
             assert_eq!(
                 q16_from_f32(v),
@@ -645,9 +639,7 @@ mod fixed_point {
         // Every exponent from far below the step to past the range, with
         // random significands, both signs.
         for _ in 0..400_000 {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
+            let x = next();
             let exp = 100 + (x >> 8) % 50;
             check(f32::from_bits((x & 0x807f_ffff) | (exp << 23)));
         }
@@ -656,13 +648,7 @@ mod fixed_point {
     #[cfg(test)]
     #[test]
     fn q16_halves_product_is_i16f16_saturating_mul() {
-        let mut x = 0x1234_5678u32;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x
-        };
+        let mut next = crate::real::xorshift32(0x1234_5678);
         let edges = [
             0,
             1,
@@ -889,6 +875,18 @@ mod fixed_point {
         strict_q32,
         q32_from_f32
     );
+}
+
+/// Marsaglia's xorshift32 from `seed`: the tests' reproducible stream of
+/// bit patterns.
+#[cfg(all(test, feature = "fixed-frame"))]
+pub(crate) fn xorshift32(mut x: u32) -> impl FnMut() -> u32 {
+    move || {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x
+    }
 }
 
 #[cfg(test)]

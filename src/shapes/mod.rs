@@ -408,10 +408,12 @@ pub fn intersect(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
 
+    // Spheres exist only with `primitives`.
+    #[cfg(feature = "primitives")]
     #[test]
     fn transformed_sphere_hit_and_normal() {
+        use glam::DVec3;
         // Unit sphere scaled by (2, 1, 1) then moved to x = 10.
         let t = Transform::scale(DVec3::new(2.0, 1.0, 1.0))
             .unwrap()
@@ -439,6 +441,8 @@ mod tests {
         assert!((hit.normal - expect).length() < 1e-5, "{hit:?}");
     }
 
+    // Spheres exist only with `primitives`.
+    #[cfg(feature = "primitives")]
     #[test]
     fn invalid_shapes_are_errors_and_missing_fields_miss() {
         let bad = Shape::Sphere {
