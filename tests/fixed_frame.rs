@@ -52,6 +52,26 @@ fn both(model: &scene::FirmwareScene) -> (Vec<u8>, Vec<u8>) {
 }
 
 /// (mean |difference| per channel, largest, pixels with a channel > 8 off).
+/// What the fixed frame of `model` over the base field refuses: the
+/// render must fail with `RenderError::FixedFrame`, and this is its limit.
+fn fixed_frame_refusal(model: &scene::FirmwareScene) -> FixedLimit {
+    let mut skip = [0u8; scene::SKIP_BYTES];
+    let fields = [base_field(model, &mut skip)];
+    let mut line = [Rgb888::default(); scene::WIDTH];
+    let r = scene::render(
+        scene::Frame::Fixed,
+        scene::FrameKind::Small,
+        model,
+        &fields,
+        &mut line,
+        |_| Ok::<(), ()>(()),
+    );
+    match r {
+        Err(scene::FrameError::Render(RenderError::FixedFrame { what })) => what,
+        other => panic!("expected a fixed-frame refusal, got {other:?}"),
+    }
+}
+
 fn error(a: &[u8], b: &[u8]) -> (f64, u8, usize) {
     let mean = a
         .iter()
@@ -123,23 +143,7 @@ fn orthographic_camera_is_within_the_error_targets() {
 #[test]
 fn mirror_scene_is_refused_not_drawn() {
     let model = scene::build_scene(scene::Variant::Reflect { level: 1 }).unwrap();
-    let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = [base_field(&model, &mut skip)];
-    let mut line = [Rgb888::default(); scene::WIDTH];
-    let r = scene::render(
-        scene::Frame::Fixed,
-        scene::FrameKind::Small,
-        &model,
-        &fields,
-        &mut line,
-        |_| Ok::<(), ()>(()),
-    );
-    assert_eq!(
-        r.unwrap_err(),
-        scene::FrameError::Render(RenderError::FixedFrame {
-            what: FixedLimit::SecondaryRays
-        })
-    );
+    assert_eq!(fixed_frame_refusal(&model), FixedLimit::SecondaryRays);
 }
 
 #[test]
@@ -164,23 +168,7 @@ fn anti_aliasing_is_refused() {
 fn far_camera_is_refused_with_range() {
     let mut model = scene::build_scene(scene::Variant::Base).unwrap();
     model.camera.location = hfray::glam::Vec3::new(0.0, 1.0e4, -1.0e4);
-    let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = [base_field(&model, &mut skip)];
-    let mut line = [Rgb888::default(); scene::WIDTH];
-    let r = scene::render(
-        scene::Frame::Fixed,
-        scene::FrameKind::Small,
-        &model,
-        &fields,
-        &mut line,
-        |_| Ok::<(), ()>(()),
-    );
-    assert_eq!(
-        r.unwrap_err(),
-        scene::FrameError::Render(RenderError::FixedFrame {
-            what: FixedLimit::Range
-        })
-    );
+    assert_eq!(fixed_frame_refusal(&model), FixedLimit::Range);
 }
 
 #[test]
