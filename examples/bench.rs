@@ -99,6 +99,14 @@ fn primary_rays() -> Vec<Ray> {
 }
 
 /// Builds a skip grid for `field` into a new buffer.
+/// The bench512 field over `data` (`fractal(n, 7)`, `n`² samples): the
+/// unit square, heights scaled by 0.3, as bench512.pov places it.
+fn bench_field(data: &[u8], n: u32) -> HeightField<'_> {
+    HeightField::new(Samples::U8(data), n, n, HeightConvention::Gray8)
+        .unwrap()
+        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap())
+}
+
 fn skip_buffer(field: &HeightField<'_>, layout: SkipLayout) -> Vec<u8> {
     let mut buf = vec![0u8; SkipGrid::bytes_needed_for(field, layout).unwrap()];
     SkipGrid::build(field, layout, &mut buf).unwrap();
@@ -413,9 +421,7 @@ fn section_d(runs: usize) {
     );
     let n = 512;
     let data = fractal(n, 7);
-    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
-        .unwrap()
-        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
+    let field = bench_field(&data, n);
     let rays = primary_rays();
     let blocks = skip_buffer(&field, SkipLayout::blocks(3));
     let pyr = skip_buffer(&field, SkipLayout::pyramid(n, n, 2));
@@ -453,9 +459,7 @@ fn section_e(runs: usize) {
     );
     let n = 512;
     let data = fractal(n, 7);
-    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
-        .unwrap()
-        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
+    let field = bench_field(&data, n);
     let buf = skip_buffer(&field, SkipLayout::pyramid(n, n, 2));
     let f = with_grid(&field, &buf, Traversal::Hierarchy);
     let eye = Vec3::new(0.5, 0.22, 0.02);
@@ -579,9 +583,7 @@ fn section_f(runs: usize) {
     };
     let n = 512;
     let data = fractal(n, 7);
-    let field = HeightField::new(Samples::U8(&data), n, n, HeightConvention::Gray8)
-        .unwrap()
-        .with_transform(Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap());
+    let field = bench_field(&data, n);
     let buf = skip_buffer(&field, SkipLayout::pyramid(n, n, 2));
     let f = with_grid(&field, &buf, Traversal::Hierarchy);
     let cam = PovCamera::new(
