@@ -7,14 +7,14 @@ mod scene;
 
 use hfray::render::FixedLimit;
 use hfray::scene::model::Shape;
-use hfray::{RenderError, RenderSettings, Rgb888};
+use hfray::{HeightField, RenderError, RenderSettings, Rgb888};
 
 /// The base scene's field (object 0's placement) over the flash samples,
 /// its pyramid built into `skip`.
 fn base_field<'a>(
     model: &scene::FirmwareScene,
     skip: &'a mut [u8; scene::SKIP_BYTES],
-) -> hfray::HeightField<'a> {
+) -> HeightField<'a> {
     scene::build_field(
         model,
         &scene::FIELD_SAMPLES,
@@ -24,10 +24,16 @@ fn base_field<'a>(
     .unwrap()
 }
 
-/// Renders `model` with both frames; returns the two byte frames.
+/// Renders `model` over the base field with both frames; returns the two
+/// byte frames.
 fn both(model: &scene::FirmwareScene) -> (Vec<u8>, Vec<u8>) {
     let mut skip = [0u8; scene::SKIP_BYTES];
-    let fields = [base_field(model, &mut skip)];
+    both_over(model, &[base_field(model, &mut skip)])
+}
+
+/// Renders `model` over `fields` with both frames; returns the two byte
+/// frames.
+fn both_over(model: &scene::FirmwareScene, fields: &[HeightField<'_>]) -> (Vec<u8>, Vec<u8>) {
     let mut frames = [Vec::new(), Vec::new()];
     for (frame, out) in [scene::Frame::Float, scene::Frame::Fixed]
         .into_iter()
@@ -38,7 +44,7 @@ fn both(model: &scene::FirmwareScene) -> (Vec<u8>, Vec<u8>) {
             frame,
             scene::FrameKind::Small,
             model,
-            &fields,
+            fields,
             &mut line,
             |px| {
                 out.extend_from_slice(px);
@@ -182,24 +188,6 @@ fn palette_coloured_field_is_within_the_error_targets() {
     let fields = [base_field(&model, &mut skip)
         .with_palette(&palette)
         .unwrap()];
-    let mut frames = [Vec::new(), Vec::new()];
-    for (frame, out) in [scene::Frame::Float, scene::Frame::Fixed]
-        .into_iter()
-        .zip(frames.iter_mut())
-    {
-        let mut line = [Rgb888::default(); scene::WIDTH];
-        scene::render(
-            frame,
-            scene::FrameKind::Small,
-            &model,
-            &fields,
-            &mut line,
-            |px| {
-                out.extend_from_slice(px);
-                Ok::<(), ()>(())
-            },
-        )
-        .unwrap();
-    }
-    assert_close(&frames[0], &frames[1]);
+    let (float, fixed) = both_over(&model, &fields);
+    assert_close(&float, &fixed);
 }
