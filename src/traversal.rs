@@ -618,6 +618,7 @@ impl<S: Real> Walk<S> {
         field: &F,
         skip: &SkipGrid<'_>,
         top: u8,
+        max_passes: u32,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -636,9 +637,9 @@ impl<S: Real> Walk<S> {
         let t_far = self.t_far;
         let (i0, j0) = (start.i, start.j);
         let mut c = self.cursor::<MOVING>(i0, j0, start.t_a, start.entry);
-        // Counted in locals, added to `counters` once.
-        let mut blocks = 0u64;
-        let mut cells = 0u64;
+        // Counted in a local, added to `counters` once; every pass that
+        // is not a cell visit is a block test, so `blocks` is the rest.
+        let mut cells = 0u32;
         // The walk is in block `(c.i >> shift, c.j >> shift)` of `level`
         // (`shift = log2 · level`; level 0: the cell). `c.i`, `c.j`,
         // `c.entry` are the flat walk's cell only while `exact`; after a
@@ -650,11 +651,9 @@ impl<S: Real> Walk<S> {
         let mut side = Exit::U;
         // Visiting cells skips none, so the walk may start at any level.
         let mut level = if self.start_in_cells { 0 } else { top };
-        // Each pass visits a cell (at most cells_u + cells_v + 1), steps a
-        // block (advancing at least one cell), or descends one level (at
-        // most `top` per step or visit). Every iteration of the loops below
-        // spends one pass of `passes`, and returns when none is left.
-        let mut passes = (self.cells_u + self.cells_v + 1) as u64 * (top as u64 + 2) + 1;
+        // Every iteration of the loops below spends one pass of `passes`
+        // (`hdda_passes`), and returns when none is left.
+        let mut passes = max_passes;
         let hit = 'walk: loop {
             // Cells, while no block needs testing (the branch sites of the
             // cell and block loops stay apart: their outcomes differ).
@@ -695,7 +694,6 @@ impl<S: Real> Walk<S> {
                     break 'walk None;
                 }
                 passes -= 1;
-                blocks += 1;
                 // The far side of the block's last column (row), as
                 // `au.exit(last column)` computes it. `(b + 1) << shift` is
                 // at most 2^20 + 2^30: no overflow. (Parallel axis: any line;
@@ -772,8 +770,8 @@ impl<S: Real> Walk<S> {
                 }
             }
         };
-        counters.blocks += blocks;
-        counters.cells += cells;
+        counters.blocks += (max_passes - passes - cells) as u64;
+        counters.cells += cells as u64;
         hit
     }
 
@@ -1390,6 +1388,18 @@ fn walk<S: Real, F: WalkGrid>(
     hit
 }
 
+/// A bound on the passes of [`Walk::walk_hdda`] with `top` levels, if it
+/// fits a `u32` (a 32-bit count is cheaper on 32-bit targets; every field
+/// the `f32` and fixed-point walks take fits): each pass visits a cell (at
+/// most `cells_u + cells_v + 1`), steps a block (advancing at least one
+/// cell), or descends one level (at most `top` per step or visit). Without
+/// it (`f64` walks of fields of hundreds of millions of cells per side)
+/// the ray takes the block-jumping walk, as exact.
+fn hdda_passes<S>(walk: &Walk<S>, top: u8) -> Option<u32> {
+    let cells = walk.cells_u as u64 + walk.cells_v as u64 + 1;
+    u32::try_from(cells * (top as u64 + 2) + 1).ok()
+}
+
 impl<S: Real> Walk<S> {
     /// The walk from `start` in `field`'s mode.
     fn walk_from<F: WalkGrid>(
@@ -1413,11 +1423,11 @@ impl<S: Real> Walk<S> {
             // from the field), walk flat.
             let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
             let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
-            if u_strict && v_strict {
+            if let (true, Some(passes)) = (u_strict && v_strict, hdda_passes(self, top)) {
                 return if TWO_BUILDS && au.step != 0 && av.step != 0 {
-                    self.walk_hdda::<true, F>(field, skip, top, start, stop, counters)
+                    self.walk_hdda::<true, F>(field, skip, top, passes, start, stop, counters)
                 } else {
-                    self.walk_hdda::<false, F>(field, skip, top, start, stop, counters)
+                    self.walk_hdda::<false, F>(field, skip, top, passes, start, stop, counters)
                 };
             }
             self.v_strict = v_strict;
