@@ -209,7 +209,9 @@ impl<S: Real> Cell<'_, S> {
     }
 
     /// The crossing on one linear piece of `g`, if any.
-    #[inline]
+    // Inlined into the walks with the rest of the cell test.
+    #[cfg_attr(not(feature = "compact"), inline(always))]
+    #[cfg_attr(feature = "compact", inline)]
     fn piece(
         &self,
         p: &BoundaryPoint<S>,
