@@ -733,17 +733,28 @@ impl<S: Real> Walk<S> {
                 // the parameter of the field's far edge on that axis, by the
                 // same expression (monotone in the line), so the line is not
                 // past that edge.
+                // The crossed lines move on by one block of this level, for
+                // the next pass if it stays at this level (else they are
+                // computed afresh for the level it goes to).
                 let (pi, pj) = (c.i, c.j);
                 if tu_edge < tv_edge {
                     side = Exit::U;
                     c.i = u_edge - down_u;
+                    u_edge += su << shift;
+                    tu_edge = au.at_line::<MOVING>(u_edge, o[0]);
                 } else if tv_edge < tu_edge {
                     side = Exit::V;
                     c.j = v_edge - down_v;
+                    v_edge += sv << shift;
+                    tv_edge = av.at_line::<MOVING>(v_edge, o[2]);
                 } else {
                     side = Exit::Corner;
                     c.i = u_edge - down_u;
                     c.j = v_edge - down_v;
+                    u_edge += su << shift;
+                    v_edge += sv << shift;
+                    tu_edge = au.at_line::<MOVING>(u_edge, o[0]);
+                    tv_edge = av.at_line::<MOVING>(v_edge, o[2]);
                 }
                 debug_assert!(
                     c.i >= 0 && c.j >= 0 && c.i < self.cells_u && c.j < self.cells_v,
@@ -758,15 +769,6 @@ impl<S: Real> Walk<S> {
                 if next != level {
                     level = next;
                     continue 'walk;
-                }
-                // Same level: only the crossed lines move, by one block.
-                if side != Exit::V {
-                    u_edge += su << shift;
-                    tu_edge = au.at_line::<MOVING>(u_edge, o[0]);
-                }
-                if side != Exit::U {
-                    v_edge += sv << shift;
-                    tv_edge = av.at_line::<MOVING>(v_edge, o[2]);
                 }
             }
         };
