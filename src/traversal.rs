@@ -735,7 +735,9 @@ impl<S: Real> Walk<S> {
                 // past that edge.
                 // The crossed lines move on by one block of this level, for
                 // the next pass if it stays at this level (else they are
-                // computed afresh for the level it goes to).
+                // computed afresh for the level it goes to). A crossed line
+                // is inside the field, so one block past it is at most
+                // 2^20 + 2^30: no overflow.
                 let (pi, pj) = (c.i, c.j);
                 if tu_edge < tv_edge {
                     side = Exit::U;
