@@ -822,24 +822,47 @@ pub fn render<const O: usize, const L: usize, const G: usize>(
     line: &mut [Rgb888],
     sink: &mut impl FnMut(u32, &[Rgb888]) -> ControlFlow<()>,
 ) -> Result<Stats, RenderError> {
-    check(settings, line.len())?;
+    check_settings(settings, line.len())?;
+    let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
+    FixedTracer::new(scene, fields, &camera)?.draw(settings, line, sink)
+}
+
+/// The settings the fixed-point frame draws: [`check`]'s, and one ray per
+/// pixel.
+fn check_settings(settings: &RenderSettings, line: usize) -> Result<(), RenderError> {
+    check(settings, line)?;
     if settings.aa != 1 {
         return Err(RenderError::FixedFrame {
             what: FixedLimit::Aa,
         });
     }
-    let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
-    let tracer = FixedTracer::new(scene, fields, &camera)?;
-    let mut cache = NormalCache::new();
-    let mut walks = Walks {
-        counters: Counters::default(),
-        aim: 0,
-    };
-    let mut stats = drive(settings, line, sink, |x, y, stats| {
-        tracer.pixel(x, y, &mut walks, &mut cache, stats)
-    });
-    stats.add_work(&walks.counters);
-    Ok(stats)
+    Ok(())
+}
+
+impl<const LIGHTS: usize> FixedTracer<'_, LIGHTS> {
+    /// [`render`] after its set-up: draws `settings.rows` with this
+    /// tracer, whose camera was made for `settings`' width and height, into
+    /// `line`, handing each finished row to `sink`. Integer arithmetic only
+    /// (for programs that measure the set-up and the pixels apart).
+    #[inline]
+    pub fn draw(
+        &self,
+        settings: &RenderSettings,
+        line: &mut [Rgb888],
+        sink: &mut impl FnMut(u32, &[Rgb888]) -> ControlFlow<()>,
+    ) -> Result<Stats, RenderError> {
+        check_settings(settings, line.len())?;
+        let mut cache = NormalCache::new();
+        let mut walks = Walks {
+            counters: Counters::default(),
+            aim: 0,
+        };
+        let mut stats = drive(settings, line, sink, |x, y, stats| {
+            self.pixel(x, y, &mut walks, &mut cache, stats)
+        });
+        stats.add_work(&walks.counters);
+        Ok(stats)
+    }
 }
 
 #[cfg(test)]

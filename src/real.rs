@@ -571,6 +571,45 @@ mod fixed_point {
         }
     }
 
+    /// `v · 2^k` as far as converting it to Q16 or Q32 can tell, in integer
+    /// arithmetic: `k` added to the exponent of a normal `v` (exact), ±∞
+    /// past the largest `f32`; zeros, subnormals (`v · 2^k` is far below
+    /// either type's step for `k ≤ 16`), infinities and NaNs unchanged.
+    #[inline]
+    pub(super) fn times_pow2(v: f32, k: u32) -> f32 {
+        // On bits only: a float kept in a register is an x87 one on a 486.
+        let bits = v.to_bits();
+        let exp = (bits >> 23) & 0xff;
+        f32::from_bits(if exp == 0 || exp == 0xff {
+            bits
+        } else if exp + k >= 0xff {
+            (bits & 0x8000_0000) | 0x7f80_0000
+        } else {
+            bits + (k << 23)
+        })
+    }
+
+    #[cfg(test)]
+    #[test]
+    fn water_level_conversion_is_the_product() {
+        let mut next = crate::real::xorshift32(0x51ed_270b);
+        for _ in 0..200_000 {
+            let v = f32::from_bits(next());
+            for (k, scale) in [(8, 256.0f32), (16, 65536.0)] {
+                assert_eq!(
+                    q16_from_f32(times_pow2(v, k)),
+                    q16_from_f32(v * scale),
+                    "{v:e} · 2^{k}"
+                );
+                assert_eq!(
+                    q32_from_f32(times_pow2(v, k)),
+                    q32_from_f32(v * scale),
+                    "{v:e} · 2^{k}"
+                );
+            }
+        }
+    }
+
     /// `v` in Q16, rounded to nearest (ties to even), saturated, NaN as 0:
     /// `I16F16::saturating_from_num(v)` in integer arithmetic (through
     /// `f64` it is software floating point on FPU-less chips, and the walk
@@ -833,10 +872,13 @@ mod fixed_point {
                     $name(<$inner>::from_bits((units as $bits) << ($frac - 16 + $ylog2)))
                 }
                 /// `level · Y_SCALE` is exact in `f32` (a power of two;
-                /// overflow saturates either way), so no `f64`.
+                /// overflow saturates either way), so no `f64`, and it is
+                /// taken in the exponent ([`times_pow2`]): the walk does
+                /// this per ray, and a float multiply is a runtime call on
+                /// an FPU-less chip.
                 #[inline]
                 fn from_water_level(level: f32) -> Self {
-                    Self::from_f32(level * Self::Y_SCALE as f32)
+                    Self::from_f32(times_pow2(level, $ylog2))
                 }
                 /// `k − o` is exact (both are multiples of the ulp and far
                 /// from the range limit), consecutive values differ by
