@@ -873,7 +873,7 @@ mod fixed_point {
                 }
                 /// `level · Y_SCALE` is exact in `f32` (a power of two;
                 /// overflow saturates either way), so no `f64`, and it is
-                /// taken in the exponent ([`times_pow2`]): the walk does
+                /// taken in the exponent (`times_pow2`): the walk does
                 /// this per ray, and a float multiply is a runtime call on
                 /// an FPU-less chip.
                 #[inline]
