@@ -42,7 +42,8 @@
 # line adds `frame=fixed mean_abs=X max_abs=Y px_over_8=N` (per channel,
 # 0-255, against the host's f32 frame of the same scene), and the mirror
 # scenes are refused (`refused=FixedFrame`). Its `full` build draws in f32.
-# `--base` runs the base scene of the height-field-only build only.
+# `--base` runs the base scene of the height-field-only builds only (and
+# the 486SX's).
 # `--profile` also prints, under each run's line, the functions that
 # executed the most instructions in the frame (`PROFILE_TOP`, default 12), symbolised
 # from the run's ELF (tools/qemu-insn-count/by_symbol.py; needs python3
