@@ -32,7 +32,9 @@
 //!   `y` is object `y × 256`, as [`crate::real::Q16`] walks). A camera ray's
 //!   direction is `A + px·B + py·C` (set-up computes `A`, `B`, `C`), shifted
 //!   so its largest component is in `[1, 2)` (the walk's `t` is rescaled by
-//!   a power of two, which changes no hit).
+//!   a power of two, which changes no hit) and rounded; the ray's origin is
+//!   moved so that the rounded ray meets the unrounded one near the hit
+//!   (`aimed`).
 //! - Unit vectors: Q30 from [`unit_q30`] (an integer square root and one
 //!   division), Q14 for dot products, so products fit in `i32`.
 //! - The smooth normal follows POV-Ray's `smooth` construction step by step
@@ -341,6 +343,27 @@ fn normalize_q16(v: [i32; 3]) -> Option<([i32; 3], i32)> {
     Some((d, k))
 }
 
+/// The walk's ray origin for the camera ray `origin + t·precise/2^k`,
+/// whose direction the walk takes rounded (`dir`, [`normalize_q16`]):
+/// moved so that `origin' + t·dir` meets the unrounded ray at `t = aim`
+/// (Q16), the last hit's `t`. The rounded ray drifts `|t − aim| · 2^-17`
+/// off instead of `t · 2^-17`, and neighbouring pixels hit at nearly the
+/// same `t`: on a long ray meeting the surface at a slant, the drift moved
+/// the hit far enough to change the smooth normal, and the colour, by a
+/// level (the `lcd` frame had 22 pixels more than 8 off the `f32` frame's
+/// in RGB565 from it). Three products per pixel.
+#[inline]
+fn aimed(origin: [i32; 3], precise: [i32; 3], dir: [i32; 3], k: i32, aim: i32) -> [i32; 3] {
+    if k <= 0 {
+        return origin; // `dir` is exact.
+    }
+    // `aim` in 2^-4 steps (below 2^19) times the rounding left out of
+    // `dir` (at most 2^11: `precise` is below 2^29, so k ≤ 12): below 2^30.
+    let (k, steps) = (k as u32 & 15, aim >> 12);
+    let at = |c: usize| origin[c] + (((precise[c] - (dir[c] << k)) * steps) >> (k + 4));
+    [at(0), at(1), at(2)]
+}
+
 #[inline]
 fn q16(bits: i32) -> Q16 {
     Q16(fixed::types::I16F16::from_bits(bits))
@@ -394,6 +417,15 @@ pub struct FixedTracer<'a, const LIGHTS: usize> {
     /// `max_trace_level` 0: every pixel is black, as in the float frame.
     black: bool,
     lit: bool,
+}
+
+/// What the camera rays' walks carry from one pixel to the next.
+struct Walks {
+    /// Their work, added to the frame's [`Stats`] once at the end (a
+    /// sum per pixel costs a 32-byte clear and four 64-bit additions each).
+    counters: Counters,
+    /// The walk's `t` at the last camera-ray hit ([`aimed`]).
+    aim: i32,
 }
 
 /// The recently used vertex normals (world, Q14), keyed by vertex index.
@@ -563,7 +595,14 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
     }
 
     /// The pixel `(px, py)`.
-    fn pixel(&self, px: u32, py: u32, cache: &mut NormalCache, stats: &mut Stats) -> Rgb888 {
+    fn pixel(
+        &self,
+        px: u32,
+        py: u32,
+        walks: &mut Walks,
+        cache: &mut NormalCache,
+        stats: &mut Stats,
+    ) -> Rgb888 {
         if self.black {
             return Rgb888([0; 3]);
         }
@@ -573,26 +612,23 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
         } else {
             self.origin.at(px, py)
         };
-        let Some((dir, _)) = normalize_q16(self.direction.at(px, py)) else {
+        let precise = self.direction.at(px, py);
+        let Some((dir, k)) = normalize_q16(precise) else {
             return self.background;
         };
-        let mut counters = Counters::default();
+        let origin = aimed(origin, precise, dir, k, walks.aim);
+        let counters = &mut walks.counters;
         let ray = GridRay {
             origin: origin.map(q16),
             direction: dir.map(q16),
         };
-        let hit = traversal::nearest(self.field, &ray, Q16::ZERO, Q16::MAX, false, &mut counters);
-        let colour = match hit {
-            None => {
-                stats.add_work(&counters);
-                return self.background;
-            }
-            Some(hit) => {
-                stats.hits += 1;
-                self.shade(&ray, &hit, cache, stats, &mut counters)
-            }
+        let Some(hit) = traversal::nearest(self.field, &ray, Q16::ZERO, Q16::MAX, false, counters)
+        else {
+            return self.background;
         };
-        stats.add_work(&counters);
+        stats.hits += 1;
+        walks.aim = hit.t.0.to_bits();
+        let colour = self.shade(&ray, &hit, cache, stats, counters);
         Rgb888(colour.map(|c| {
             // floor(v·255 + ½) on Q16, clamped (`channel_to_u8`).
             let v = c.clamp(0, ONE16);
@@ -786,18 +822,47 @@ pub fn render<const O: usize, const L: usize, const G: usize>(
     line: &mut [Rgb888],
     sink: &mut impl FnMut(u32, &[Rgb888]) -> ControlFlow<()>,
 ) -> Result<Stats, RenderError> {
-    check(settings, line.len())?;
+    check_settings(settings, line.len())?;
+    let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
+    FixedTracer::new(scene, fields, &camera)?.draw(settings, line, sink)
+}
+
+/// The settings the fixed-point frame draws: [`check`]'s, and one ray per
+/// pixel.
+fn check_settings(settings: &RenderSettings, line: usize) -> Result<(), RenderError> {
+    check(settings, line)?;
     if settings.aa != 1 {
         return Err(RenderError::FixedFrame {
             what: FixedLimit::Aa,
         });
     }
-    let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
-    let tracer = FixedTracer::new(scene, fields, &camera)?;
-    let mut cache = NormalCache::new();
-    Ok(drive(settings, line, sink, |x, y, stats| {
-        tracer.pixel(x, y, &mut cache, stats)
-    }))
+    Ok(())
+}
+
+impl<const LIGHTS: usize> FixedTracer<'_, LIGHTS> {
+    /// [`render`] after its set-up: draws `settings.rows` with this
+    /// tracer, whose camera was made for `settings`' width and height, into
+    /// `line`, handing each finished row to `sink`. Integer arithmetic only
+    /// (for programs that measure the set-up and the pixels apart).
+    #[inline]
+    pub fn draw(
+        &self,
+        settings: &RenderSettings,
+        line: &mut [Rgb888],
+        sink: &mut impl FnMut(u32, &[Rgb888]) -> ControlFlow<()>,
+    ) -> Result<Stats, RenderError> {
+        check_settings(settings, line.len())?;
+        let mut cache = NormalCache::new();
+        let mut walks = Walks {
+            counters: Counters::default(),
+            aim: 0,
+        };
+        let mut stats = drive(settings, line, sink, |x, y, stats| {
+            self.pixel(x, y, &mut walks, &mut cache, stats)
+        });
+        stats.add_work(&walks.counters);
+        Ok(stats)
+    }
 }
 
 #[cfg(test)]

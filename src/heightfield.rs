@@ -591,7 +591,9 @@ impl<'a> HeightField<'a> {
     /// [`Real::Y_SCALE`]) is in `[1, 2)`, and its origin moved to where it enters the field's box, so
     /// that origin, `t` and boundary parameters stay within a few times the
     /// grid size whatever the world's scale or the camera's distance. The
-    /// hit's `t` is mapped back in `f64`.
+    /// ray is clipped to the box and the slab of the field's heights in
+    /// `f64`, and walked in pieces of [`Real::REORIGIN_T`] cells, each
+    /// from its own rounded origin. The hit's `t` is mapped back in `f64`.
     pub fn intersect_as<S: Real>(
         &self,
         ray: &Ray,
@@ -646,35 +648,66 @@ impl<'a> HeightField<'a> {
             t0 = t0.max(a.min(b));
             t1 = t1.min(a.max(b));
         }
+        // ... and to the slab of heights a hit can have (the samples' and
+        // the water's, a height unit wider each side), so a ray that
+        // passes over the field ends its walk where it leaves the slab.
+        let units_to_y = y / 65536.0;
+        let bottom = self.min_units as f64 * units_to_y - 1.0;
+        let top = self.max_units.max(self.water_units) as f64 * units_to_y + 1.0;
+        if d.y == 0.0 {
+            if o.y < bottom || o.y > top {
+                return None;
+            }
+        } else {
+            let (a, b) = ((bottom - o.y) / d.y, (top - o.y) / d.y);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
         if !(t0 <= t1) {
             return None;
         }
         // Start one cell's worth before the box (never before t_min), so
         // the walk's own clipping decides the entry.
         let start = (t0 - 1.0).max(t_min as f64 / sigma);
-        let origin = o + d * start;
-        let g = GridRay {
-            origin: origin.to_array().map(S::from_f64),
-            direction: d.to_array().map(S::from_f64),
-        };
-        let t_lo = t_min as f64 / sigma - start;
+        let t_lo = t_min as f64 / sigma;
         let t_hi = if t_max.is_finite() {
-            t_max as f64 / sigma - start
+            t_max as f64 / sigma
         } else {
             f64::INFINITY
         };
-        let hit = traversal::nearest(
-            self,
-            &g,
-            S::from_f64(t_lo),
-            S::from_f64(t_hi),
-            any,
-            counters,
-        )?;
-        let mut fh = self.finish_hit(ray, &hit);
-        fh.t = ((hit.t.to_f64() + start) * sigma) as f32;
-        fh.point = self.hit_point(ray, fh.t, fh.object_point);
-        Some(fh)
+        // The ray is walked in pieces of `S::REORIGIN_T`, each from its
+        // own origin rounded from the f64 ray: the rounded direction's
+        // error then grows over one piece, not over the whole ray (a Q16
+        // ray grazing a ridge 150 cells on missed it). The last piece
+        // ends past the box, where the walk stops anyway.
+        let direction = d.to_array().map(S::from_f64);
+        let mut from = start;
+        loop {
+            let to = (from + S::REORIGIN_T).min(t_hi);
+            let last = to >= t1;
+            let g = GridRay {
+                origin: (o + d * from).to_array().map(S::from_f64),
+                direction,
+            };
+            let piece_hi = if last { t_hi } else { to };
+            if let Some(hit) = traversal::nearest(
+                self,
+                &g,
+                S::from_f64((t_lo - from).max(0.0)),
+                S::from_f64(piece_hi - from),
+                any,
+                counters,
+            ) {
+                let mut fh = self.finish_hit(ray, &hit);
+                fh.t = ((hit.t.to_f64() + from) * sigma) as f32;
+                fh.point = self.hit_point(ray, fh.t, fh.object_point);
+                return Some(fh);
+            }
+            if last {
+                return None;
+            }
+            from = to;
+        }
     }
 
     /// The nearest hit computed in the numeric type `S` (`f32`, `f64`, …),

@@ -29,13 +29,21 @@
 #   thumbv6m-none-eabi/microbit-minimal[:reflect-5]
 #                                      the minimal M0 build (no secondary rays): the
 #                                      base frame, and reflect-5 refused
+#   i586-unknown-linux-gnu/i486sx[:lcd]
+#                                      the i486 program built with `fixed-frame`
+#                                      (the FPU-less 486SX) under qemu-i386 -cpu 486:
+#                                      the fixed-point frame, byte for byte the
+#                                      host's; the line adds x87_in_pixels (x87
+#                                      instructions the render ran: must be 0) and
+#                                      x87_in_setup (the per-frame f64 set-up's)
 # The Cortex-M0's height-field-only and minimal builds draw the fixed-point
 # frame (hfray::fixed_frame, its default): their base frame must equal the
 # host's fixed-point frame (`firmware_host --frame fixed`) byte for byte, the
 # line adds `frame=fixed mean_abs=X max_abs=Y px_over_8=N` (per channel,
 # 0-255, against the host's f32 frame of the same scene), and the mirror
 # scenes are refused (`refused=FixedFrame`). Its `full` build draws in f32.
-# `--base` runs the base scene of the height-field-only build only.
+# `--base` runs the base scene of the height-field-only builds only (and
+# the 486SX's).
 # `--profile` also prints, under each run's line, the functions that
 # executed the most instructions in the frame (`PROFILE_TOP`, default 12), symbolised
 # from the run's ELF (tools/qemu-insn-count/by_symbol.py; needs python3
@@ -136,6 +144,8 @@ fw_full_dir="$fw_dir/full"
 # The minimal M0 build (no reflection or transparency: `--no-default-features`).
 fw_min_dir="$fw_dir/minimal"
 i486_full_dir="$i486_dir/full"
+# The 486SX build (`--features fixed-frame`: the fixed-point frame).
+i486sx_dir="$i486_dir/fixed"
 
 # --- builds ---------------------------------------------------------------
 echo "run-qemu.sh: building (log: $log)" >&2
@@ -150,6 +160,7 @@ build "host reference" bash -c "cd '$root' && cargo build --release --example fi
 build "Cortex-M0 firmware" bash -c "cd '$here' && cargo build --release --target thumbv6m-none-eabi"
 build "Cortex-M4F firmware" bash -c "cd '$here' && cargo build --release --target thumbv7em-none-eabihf"
 build "i486" bash -c "cd '$here/i486' && cargo build --release --target i586-unknown-linux-gnu"
+build "486SX" bash -c "cd '$here/i486' && cargo build --release --features fixed-frame --target-dir '$i486sx_dir' --target i586-unknown-linux-gnu"
 if ((all)); then
     build "Cortex-M0 firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv6m-none-eabi"
     build "Cortex-M4F firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv7em-none-eabihf"
@@ -161,7 +172,8 @@ build "instruction-count plugin" gcc -O2 -shared -fPIC -fvisibility=hidden -o "$
 
 for f in "$host_bin" "$fw_dir/thumbv6m-none-eabi/release/hfray-firmware" \
     "$fw_dir/thumbv7em-none-eabihf/release/hfray-firmware" \
-    "$i486_dir/i586-unknown-linux-gnu/release/hfray-i486"; do
+    "$i486_dir/i586-unknown-linux-gnu/release/hfray-i486" \
+    "$i486sx_dir/i586-unknown-linux-gnu/release/hfray-i486"; do
     [[ -f "$f" ]] || { echo "run-qemu.sh: built file not found: $f" >&2; exit 1; }
 done
 
@@ -424,6 +436,40 @@ for r in "${runs[@]}"; do
         "vm_hwm_kib=$(field vm_hwm_kib "$native") max_rss_kib=${rss:-?}" \
         "scene=$scene build=$build $(work "$line")"
     profile "$t" "$out/frame-insns-$tag.txt" "$i486_bin"
+done
+
+# --- 486SX: the fixed-point frame under qemu-i386 -cpu 486 -------------------
+# The frame must be the host's fixed-point frame, and its pixels must run no
+# x87 instruction (the plugin's segment_fp: the program's two frame segments
+# are the set-up, f64 on the x87, which a 486SX runs through the kernel's FPU
+# emulation, and the render).
+i486sx_bin="$i486sx_dir/i586-unknown-linux-gnu/release/hfray-i486"
+for scene in "${fixed_scenes[@]}"; do
+    t="i586-unknown-linux-gnu/i486sx"
+    [[ "$scene" != base ]] && t+=":$scene"
+    tag="i486sx-$scene"
+    ppm="$out/frame-i486sx-$scene.ppm"
+    rm -rf "$scratch" && mkdir -p "$scratch"
+    if ! line="$(cd "$scratch" && timeout "$run_timeout" qemu-i386 -cpu 486 \
+        -plugin "$plugin,out=$out/insns-$tag.txt,frame_out=$out/frame-insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" "$i486sx_bin" "$scene")"; then
+        fail "$t: qemu-i386 -cpu 486 exited non-zero: $line"
+        continue
+    fi
+    mv -f "$scratch/frame-i486.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
+    compare "$t" "fixed:$scene" "$line" "$ppm"
+    insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+    frame_insns="$(frame_instructions "$out/qemu-$tag.log")"
+    segments="$(sed -n 's/.*segment_fp=\([0-9]*,[0-9]*\)$/\1/p' "$out/qemu-$tag.log")"
+    x87_setup="${segments%%,*}" x87_pixels="${segments#*,}"
+    if [[ "$x87_pixels" != 0 ]]; then
+        fail "$t: the fixed-point frame's render ran ${x87_pixels:-?} x87 instructions (segment_fp=${segments:-?})"
+    fi
+    echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[fixed:$scene]}" \
+        "stack_bytes=$(field stack_bytes "$line") text_bytes=$(section_size "$i486sx_bin" .text)" \
+        "instructions=${insns:-?} frame_instructions=${frame_insns:-?} x87_in_pixels=${x87_pixels:-?} x87_in_setup=${x87_setup:-?}" \
+        "image_bytes=$(image_bytes "$i486sx_bin") render_stack_bytes=$(field render_stack_bytes "$line")" \
+        "scene=$scene build=hf $(work "$line") frame=fixed ${fixed_error[$scene]}"
+    profile "$t" "$out/frame-insns-$tag.txt" "$i486sx_bin"
 done
 
 # fsqrt against libm on the 486, at the x87 precision of the render, the

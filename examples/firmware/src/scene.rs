@@ -684,7 +684,74 @@ pub fn render<E>(
     scene: &FirmwareScene,
     fields: &[HeightField<'_>],
     line: &mut [Rgb888],
+    sink: impl FnMut(&[u8]) -> Result<(), E>,
+) -> Result<Stats, FrameError<E>> {
+    draw_rows(
+        kind,
+        line,
+        sink,
+        &SceneDraw {
+            frame,
+            scene,
+            fields,
+        },
+    )
+}
+
+/// One of hfray's renderers, ready to draw a frame.
+trait Draw {
+    fn draw(
+        &self,
+        settings: &RenderSettings,
+        line: &mut [Rgb888],
+        row_sink: &mut impl FnMut(u32, &[Rgb888]) -> ControlFlow<()>,
+    ) -> Result<Stats, RenderError>;
+}
+
+/// [`render`]'s renderer: `frame`'s, set up as it draws.
+struct SceneDraw<'a, 'f> {
+    frame: Frame,
+    scene: &'a FirmwareScene,
+    fields: &'a [HeightField<'f>],
+}
+
+impl Draw for SceneDraw<'_, '_> {
+    #[inline(always)]
+    fn draw(
+        &self,
+        settings: &RenderSettings,
+        line: &mut [Rgb888],
+        row_sink: &mut impl FnMut(u32, &[Rgb888]) -> ControlFlow<()>,
+    ) -> Result<Stats, RenderError> {
+        let (scene, fields) = (self.scene, self.fields);
+        match self.frame {
+            Frame::Float => hfray::render(scene, fields, settings, line, row_sink),
+            Frame::Fixed => hfray::fixed_frame::render(scene, fields, settings, line, row_sink),
+        }
+    }
+}
+
+impl<const LIGHTS: usize> Draw for hfray::fixed_frame::FixedTracer<'_, LIGHTS> {
+    #[inline(always)]
+    fn draw(
+        &self,
+        settings: &RenderSettings,
+        line: &mut [Rgb888],
+        row_sink: &mut impl FnMut(u32, &[Rgb888]) -> ControlFlow<()>,
+    ) -> Result<Stats, RenderError> {
+        hfray::fixed_frame::FixedTracer::draw(self, settings, line, row_sink)
+    }
+}
+
+/// Runs `renderer` over the frame of `kind` in `line` (at least the
+/// frame's width), handing each finished row to `sink` as the bytes it is
+/// sent as, [`PIECE_PIXELS`] pixels at a time; stops at the first sink
+/// error.
+fn draw_rows<E>(
+    kind: FrameKind,
+    line: &mut [Rgb888],
     mut sink: impl FnMut(&[u8]) -> Result<(), E>,
+    renderer: &impl Draw,
 ) -> Result<Stats, FrameError<E>> {
     let (width, height) = kind.size();
     let settings = RenderSettings::new(width as u32, height as u32);
@@ -700,11 +767,9 @@ pub fn render<E>(
             ControlFlow::Break(())
         }
     };
-    let stats = match frame {
-        Frame::Float => hfray::render(scene, fields, &settings, line, &mut row_sink),
-        Frame::Fixed => hfray::fixed_frame::render(scene, fields, &settings, line, &mut row_sink),
-    }
-    .map_err(FrameError::Render)?;
+    let stats = renderer
+        .draw(&settings, line, &mut row_sink)
+        .map_err(FrameError::Render)?;
     match failed {
         Some(e) => Err(FrameError::Sink(e)),
         None => Ok(stats),
@@ -762,5 +827,42 @@ impl<'s> Renderer<'s> {
             stats.rows += 1;
         }
         Ok(stats)
+    }
+}
+
+/// The fixed-point frame's [`render`] split in two, as [`Renderer`]:
+/// [`FixedRenderer::new`] is the per-frame setup (camera and tracer; `f64`
+/// inside hfray), [`FixedRenderer::render`] the pixels, in integers only
+/// (the i486 program's 486SX build counts the x87 instructions they run:
+/// none).
+pub struct FixedRenderer<'s> {
+    kind: FrameKind,
+    tracer: hfray::fixed_frame::FixedTracer<'s, 1>,
+}
+
+impl<'s> FixedRenderer<'s> {
+    /// Per-frame setup.
+    pub fn new(
+        kind: FrameKind,
+        scene: &'s FirmwareScene,
+        fields: &'s [HeightField<'s>],
+    ) -> Result<Self, RenderError> {
+        let (width, height) = kind.size();
+        let camera =
+            Camera::new(&scene.camera, width as u32, height as u32).map_err(RenderError::Camera)?;
+        Ok(FixedRenderer {
+            kind,
+            tracer: hfray::fixed_frame::FixedTracer::new(scene, fields, &camera)?,
+        })
+    }
+
+    /// Renders the frame into `line` and hands it to `sink` as [`render`]
+    /// does with [`Frame::Fixed`].
+    pub fn render<E>(
+        &self,
+        line: &mut [Rgb888],
+        sink: impl FnMut(&[u8]) -> Result<(), E>,
+    ) -> Result<Stats, FrameError<E>> {
+        draw_rows(self.kind, line, sink, &self.tracer)
     }
 }

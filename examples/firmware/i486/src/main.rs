@@ -10,6 +10,11 @@
 //! The scene variant (`scene::VARIANTS`) is the last command-line argument,
 //! `base` without one.
 //!
+//! Built with `--features fixed-frame` it is the 486SX program: it draws the
+//! fixed-point frame (`hfray::fixed_frame`, as the Cortex-M0 does) and
+//! prints `board=i486sx`; its pixels run no x87 instruction, only its
+//! per-frame set-up does (`f64`; on a 486SX the kernel's FPU emulation).
+//!
 //! # What the C runtime would have done, done here
 //! - `_start` (assembly): clear the frame pointer, keep the entry stack
 //!   pointer (it points at `argc`, `argv`), align the stack to 16 bytes,
@@ -41,6 +46,18 @@
 
 #[path = "../../src/scene.rs"]
 mod scene;
+
+#[cfg(feature = "fixed-frame")]
+use scene::FixedRenderer as Renderer;
+#[cfg(not(feature = "fixed-frame"))]
+use scene::Renderer;
+
+/// The `board=` name printed.
+const BOARD: &str = if cfg!(feature = "fixed-frame") {
+    "i486sx"
+} else {
+    "i486"
+};
 
 use core::arch::{asm, global_asm};
 use core::fmt::Write as _;
@@ -248,7 +265,7 @@ fn frame_mark() {
 fn fail(what: &str) -> ! {
     // Strings as they are, not through `Display`, whose padding code
     // (about 1 KB) is then not linked.
-    for part in ["board=i486 error=", what, "\n"] {
+    for part in ["board=", BOARD, " error=", what, "\n"] {
         let _ = Stdout.write_str(part);
     }
     exit(1)
@@ -407,7 +424,7 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     // renderer's setup (camera, tracer) and the render; not the scene, the
     // field, its pyramid or the stack scans.
     frame_mark();
-    let renderer = match scene::Renderer::new(kind, &model, &fields) {
+    let renderer = match Renderer::new(kind, &model, &fields) {
         Ok(r) => r,
         Err(_) => fail("render-setup"),
     };
@@ -422,13 +439,19 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     let setup_low = lowest_used_stack_address(stack_top);
     let render_sp = repaint_below_sp(stack_top);
     frame_mark();
-    // The render: f32 only, so every x87 operation rounds to 24 bits.
-    set_x87_precision(0b00);
+    // The render: f32 only, so every x87 operation rounds to 24 bits. The
+    // fixed-point frame runs no x87 instruction, not even these.
+    let float_frame = !cfg!(feature = "fixed-frame");
+    if float_frame {
+        set_x87_precision(0b00);
+    }
     let stats = renderer.render(line, |bytes| {
         hash.update(bytes);
         write_all(fd, bytes)
     });
-    set_x87_precision(0b10);
+    if float_frame {
+        set_x87_precision(0b10);
+    }
     frame_mark();
     let stats = match stats {
         Ok(s) => s,
@@ -441,7 +464,9 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     let render_used = render_sp - render_low;
     let render_peak = stack_top - render_low;
     let (vm_peak, vm_hwm) = vm_peak_and_hwm_kib();
-    let _ = Stdout.write_str("board=i486 scene=");
+    let _ = Stdout.write_str("board=");
+    let _ = Stdout.write_str(BOARD);
+    let _ = Stdout.write_str(" scene=");
     let _ = Stdout.write_str(variant.name());
     let _ = write!(
         Stdout,
