@@ -1336,7 +1336,7 @@ fn walk<S: Real, F: WalkGrid>(
     let i = first_cell(entry_u, au.step, cells_u);
     let j = first_cell(entry_v, av.step, cells_v);
 
-    let mut walk = Walk::new(field, *o, *d, au, av, t_far, any);
+    let mut walk = Walk::new(field, *o, *d, au, av, t_far, water, any);
     let mut start = Resume {
         i,
         j,
@@ -1378,7 +1378,11 @@ fn walk<S: Real, F: WalkGrid>(
 
 impl<S: Real> Walk<S> {
     /// The walk of ray `(o, d)` over `field` up to `t_far`, along the
-    /// moving or parallel axes `au`, `av`; `any` as for [`nearest`].
+    /// moving or parallel axes `au`, `av`; `water` is
+    /// `S::from_water_level(field.water_level())`, which the caller has at
+    /// hand (a soft-float conversion on FPU-less chips); `any` as for
+    /// [`nearest`].
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn new<F: WalkGrid>(
         field: &F,
@@ -1387,10 +1391,10 @@ impl<S: Real> Walk<S> {
         au: Axis<S>,
         av: Axis<S>,
         t_far: S,
+        water: S,
         any: bool,
     ) -> Self {
         let water_units = field.water_units();
-        let water = S::from_water_level(field.water_level());
         Walk {
             o,
             d,
