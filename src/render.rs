@@ -20,7 +20,10 @@
 //! normalised world-space camera ray (through the pixel centre, whatever
 //! `aa` says: averaging depths across an edge means nothing) from its
 //! origin to the first hit of any object, `f32::INFINITY` where nothing is
-//! hit.
+//! hit. On desktop targets it traces each row in packets of [`LANES`]
+//! neighbouring pixels ([`crate::packet`]), with the same depths and
+//! counters; rays that column coherence may resume, and firmware builds,
+//! go one by one.
 //!
 //! Height fields are passed separately (`fields[i]` for an object's
 //! `field_index` `i`); each carries its placement, water level and palette,
