@@ -18,8 +18,8 @@
 //!     or libembree-dev is missing — it is for this bench, not CI): the
 //!     bench512 field as POV-Ray's triangles, the bench view's primary rays
 //!     at 1280×800, `rtcIntersect1` and `rtcIntersect8` on 4×2 tiles vs
-//!     hfray on the same rays (ray by ray, and in packets of four
-//!     neighbours of a row), interleaved; build time and memory;
+//!     hfray on the same rays (ray by ray, and in packets of neighbours
+//!     of a row), interleaved; build time and memory;
 //! (g) instructions per ray (`valgrind --tool=callgrind`, when installed)
 //!     on the `render` command, bench512.pov at 320×200: per primary ray
 //!     (`--aov depth`), coherence on and off, and per shadow ray. The
@@ -638,7 +638,7 @@ fn section_f(runs: usize) {
                 .is_some() as u64;
         }
     };
-    // The same rays in packets of four neighbours of a row
+    // The same rays in packets of `LANES` neighbours of a row
     // (`HeightField::intersect_packet`, the same hits).
     let packets: Vec<RayPacket> = rays
         .chunks_exact(LANES)

@@ -22,8 +22,8 @@
 //! of three rays sharing the ray's origin and `x`, `z` direction, and on
 //! an image column of the renderer's walk rays (`Camera::camera_ray`) of a
 //! level camera at the ray's origin; and so does each lane of a packet
-//! (`intersect_packet`, `intersect_t_packet`) of the ray, two neighbours
-//! and the previous case's ray, and of a camera row (`Camera::camera_packet`,
+//! (`intersect_packet`, `intersect_t_packet`) of the ray, neighbours and
+//! the previous case's ray, and of a camera row (`Camera::camera_packet`,
 //! whose lanes are `camera_ray`'s bits).
 #![no_main]
 
@@ -434,13 +434,13 @@ fuzz_target!(|input: Input| {
                 "coherent walk differs from flat"
             );
         }
-        // Packets: the ray, two neighbours (direction nudged, as the next
+        // Packets: the ray, neighbours (direction nudged, as the next
         // pixels' rays are) and the previous case's ray; each lane is its
         // own ray's walk, in the hierarchy and flat.
         let nudge = dir.abs().max_element() * 1e-3;
         let lanes: [Ray; LANES] = std::array::from_fn(|l| match l {
             0 => ray,
-            3 => previous,
+            l if l == LANES - 1 => previous,
             _ => Ray::new(o, dir + Vec3::new(nudge * l as f32, 0.0, -nudge)),
         });
         previous = ray;
