@@ -18,7 +18,8 @@
 //!     or libembree-dev is missing — it is for this bench, not CI): the
 //!     bench512 field as POV-Ray's triangles, the bench view's primary rays
 //!     at 1280×800, `rtcIntersect1` and `rtcIntersect8` on 4×2 tiles vs
-//!     hfray on the same rays, interleaved; build time and memory;
+//!     hfray on the same rays (ray by ray, and in packets of neighbours
+//!     of a row), interleaved; build time and memory;
 //! (g) instructions per ray (`valgrind --tool=callgrind`, when installed)
 //!     on the `render` command, bench512.pov at 320×200: per primary ray
 //!     (`--aov depth`), coherence on and off, and per shadow ray. The
@@ -64,6 +65,7 @@ use std::process::Command;
 use bench_common::{fractal, median, median_secs, repetitions, sample_secs, PovCamera};
 use harness::scene_io::{build_fields, load_fields, parse_file_scene};
 use hfray::glam::{DVec3, Vec3};
+use hfray::packet::{RayPacket, LANES};
 use hfray::pixel::Rgb888;
 use hfray::render::{render, render_coherent, RenderSettings, RowOrder, Stats};
 use hfray::scene::ParseOptions;
@@ -636,13 +638,31 @@ fn section_f(runs: usize) {
                 .is_some() as u64;
         }
     };
+    // The same rays in packets of `LANES` neighbours of a row
+    // (`HeightField::intersect_packet`, the same hits).
+    let packets: Vec<RayPacket> = rays
+        .chunks_exact(LANES)
+        .map(|c| RayPacket::from_rays(c.try_into().unwrap()))
+        .collect();
+    let mut packet_hits = 0u64;
+    let mut trace_packets = || {
+        packet_hits = 0;
+        let mut c = Counters::default();
+        for p in &packets {
+            let found = f.intersect_packet(p, 0.0, f32::INFINITY, &mut c);
+            packet_hits += found.iter().flatten().count() as u64;
+        }
+    };
     let reps = repetitions(&mut trace);
     let (mut ours, mut e1, mut e8, mut ratio8) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut ours4, mut ratio8_4) = (Vec::new(), Vec::new());
     let mut last = String::new();
-    // Interleaved: each run times hfray, then one peer process (which
-    // builds its BVH and times both kernels, 3 passes each).
+    // Interleaved: each run times hfray (ray by ray, then in packets), then
+    // one peer process (which builds its BVH and times both kernels, 3
+    // passes each).
     for _ in 0..runs {
         let t = sample_secs(reps, &mut trace);
+        let t4 = sample_secs(reps, &mut trace_packets);
         let out = match Command::new(&exe)
             .arg(dir.join("field.bin"))
             .arg(dir.join("rays.bin"))
@@ -671,11 +691,14 @@ fn section_f(runs: usize) {
         e1.push(s1);
         e8.push(s8);
         ratio8.push(t / s8);
+        ours4.push(t4);
+        ratio8_4.push(t4 / s8);
         last = out;
     }
     let get = |k: &str| peer_value(&last, k).unwrap_or(f64::NAN);
     let rate = |s: f64| rays.len() as f64 / s / 1e6;
-    let (ours, e1, e8) = (median(&mut ours), median(&mut e1), median(&mut e8));
+    let (ours, ours4) = (median(&mut ours), median(&mut ours4));
+    let (e1, e8) = (median(&mut e1), median(&mut e8));
     println!(
         "  {:<34} {:>8.3} Mrays/s {:>7.1} ns/ray  hits {:>8}  ({:.1} blocks + {:.1} cells/ray; skip grid {} bytes = {:.3} B/sample)",
         "hfray pyramid fan-out 4, f32",
@@ -686,6 +709,13 @@ fn section_f(runs: usize) {
         counters.cells as f64 / rays.len() as f64,
         buf.len(),
         buf.len() as f64 / (n * n) as f64
+    );
+    println!(
+        "  {:<34} {:>8.3} Mrays/s {:>7.1} ns/ray  hits {:>8}",
+        format!("hfray packets of {LANES} (same rays)"),
+        rate(ours4),
+        ours4 * 1e9 / rays.len() as f64,
+        packet_hits
     );
     for (name, secs, key) in [
         ("Embree rtcIntersect1", e1, "hits1"),
@@ -707,8 +737,9 @@ fn section_f(runs: usize) {
         get("triangles")
     );
     println!(
-        "  hfray time / Embree rtcIntersect8 time = {:.3} (median of per-run ratios; target <= 1)",
-        median(&mut ratio8)
+        "  hfray time / Embree rtcIntersect8 time = {:.3} ray by ray, {:.3} in packets (median of per-run ratios; target <= 1)",
+        median(&mut ratio8),
+        median(&mut ratio8_4)
     );
 }
 

@@ -31,6 +31,7 @@
 
 use glam::{DVec3, Vec3};
 
+use crate::packet::{self, Lanes, RayPacket, LANES};
 use crate::ray::Ray;
 use crate::scene::{CameraDesc, Projection};
 
@@ -85,6 +86,29 @@ pub struct CameraRay {
     /// `|walk.direction|`: a `t` along `walk` times `length` is the `t`
     /// along `ray`.
     pub length: f32,
+}
+
+/// [`CameraRay`]s of a packet ([`crate::packet`]), lane-wise: what
+/// [`Camera::camera_packet`] makes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraPacket {
+    /// The rays with unit directions.
+    pub ray: RayPacket,
+    /// The same lines with the camera's unnormalised directions.
+    pub walk: RayPacket,
+    /// `|walk.direction|`, per lane.
+    pub length: Lanes,
+}
+
+impl CameraPacket {
+    /// Lane `l`'s camera ray.
+    pub fn camera_ray(&self, l: usize) -> CameraRay {
+        CameraRay {
+            ray: self.ray.ray(l),
+            walk: self.walk.ray(l),
+            length: self.length[l],
+        }
+    }
 }
 
 impl core::error::Error for CameraError {}
@@ -317,6 +341,47 @@ impl Camera {
                 walk,
                 length: 1.0,
             },
+        }
+    }
+
+    /// [`camera_ray`](Self::camera_ray) through `(x[l], y)` for each lane
+    /// `l`, computed lane-wise ([`crate::packet`]): lane `l` is that ray,
+    /// bit for bit.
+    #[inline]
+    pub fn camera_packet(&self, x: &Lanes, y: f32) -> CameraPacket {
+        let x0: Lanes = core::array::from_fn(|l| x[l] * self.inv_width - 0.5);
+        let y0 = 0.5 - y * self.inv_height;
+        let (r, u) = (self.right.to_array(), self.up.to_array());
+        // `base + R·x0 + U·y0`, as `walk_ray` adds them.
+        let plane = |base: Vec3| -> [Lanes; 3] {
+            let base = base.to_array();
+            core::array::from_fn(|k| core::array::from_fn(|l| base[k] + r[k] * x0[l] + u[k] * y0))
+        };
+        let splat = |v: Vec3| v.to_array().map(|c| [c; LANES]);
+        match self.projection {
+            Projection::Perspective => {
+                let (origin, direction) = (splat(self.location), plane(self.direction));
+                let length = packet::length(&direction);
+                CameraPacket {
+                    ray: RayPacket {
+                        origin,
+                        direction: packet::normalize_or_zero(&direction, &length),
+                    },
+                    walk: RayPacket { origin, direction },
+                    length,
+                }
+            }
+            Projection::Orthographic => {
+                let walk = RayPacket {
+                    origin: plane(self.location),
+                    direction: splat(self.view),
+                };
+                CameraPacket {
+                    ray: walk,
+                    walk,
+                    length: [1.0; LANES],
+                }
+            }
         }
     }
 

@@ -17,6 +17,7 @@
 use glam::{DAffine3, DVec3, Vec3};
 
 use crate::cell::Corners;
+use crate::packet::{self, RayPacket, LANES};
 use crate::ray::{FieldHit, Ray, Triangle};
 use crate::real::{Numeric, Real};
 use crate::skip::{SampleGrid, SkipError, SkipGrid};
@@ -580,6 +581,57 @@ impl<'a> HeightField<'a> {
             #[allow(unreachable_patterns)]
             _ => Some(self.intersect_counted(ray, t_min, t_max, counters)?.t),
         }
+    }
+
+    /// [`intersect_counted`](Self::intersect_counted) for each of `rays`
+    /// (neighbouring primary rays, say), set up together
+    /// ([`crate::packet`]): the same hits, bit for bit.
+    pub fn intersect_packet(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> [Option<FieldHit>; LANES] {
+        // The other numeric paths, ray by ray.
+        if !matches!(self.numeric, Numeric::F32) {
+            return core::array::from_fn(|l| {
+                self.intersect_counted(&rays.ray(l), t_min, t_max, counters)
+            });
+        }
+        let hits = self.grid_hits_packet(rays, t_min, t_max, counters);
+        core::array::from_fn(|l| Some(self.finish_hit(&rays.ray(l), hits[l].as_ref()?)))
+    }
+
+    /// [`intersect_t`](Self::intersect_t) for each of `rays`, as
+    /// [`intersect_packet`](Self::intersect_packet).
+    pub fn intersect_t_packet(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> [Option<f32>; LANES] {
+        if !matches!(self.numeric, Numeric::F32) {
+            return core::array::from_fn(|l| {
+                self.intersect_t(&rays.ray(l), t_min, t_max, counters)
+            });
+        }
+        self.grid_hits_packet(rays, t_min, t_max, counters)
+            .map(|h| Some(h?.t))
+    }
+
+    /// The grid hits of `rays` walked in `f32`, as
+    /// [`intersect_in`](Self::intersect_in) finds them one by one.
+    fn grid_hits_packet(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> [Option<GridHit<f32>>; LANES] {
+        let grid = packet::map_f32(&self.world_to_grid, rays);
+        packet::nearest_packet(self, &grid, t_min, t_max, counters)
     }
 
     /// The nearest hit of a world ray walked in the numeric type `S`

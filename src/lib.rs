@@ -281,6 +281,7 @@ pub mod fixed_frame;
 pub mod generate;
 pub mod heightfield;
 pub mod math;
+pub mod packet;
 pub mod pixel;
 pub mod ray;
 pub mod real;
@@ -295,7 +296,7 @@ mod stats;
 pub mod transform;
 pub mod traversal;
 
-pub use camera::{Camera, CameraError, CameraRay};
+pub use camera::{Camera, CameraError, CameraPacket, CameraRay};
 pub use glam;
 pub use heapless;
 pub use heightfield::{ColumnHint, HeightConvention, HeightField, HeightFieldError, Samples};

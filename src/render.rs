@@ -20,7 +20,10 @@
 //! normalised world-space camera ray (through the pixel centre, whatever
 //! `aa` says: averaging depths across an edge means nothing) from its
 //! origin to the first hit of any object, `f32::INFINITY` where nothing is
-//! hit.
+//! hit. On desktop targets it traces each row in packets of [`LANES`]
+//! neighbouring pixels ([`crate::packet`]), with the same depths and
+//! counters; rays that column coherence may resume, and firmware builds,
+//! go one by one.
 //!
 //! Height fields are passed separately (`fields[i]` for an object's
 //! `field_index` `i`); each carries its placement, water level and palette,
@@ -49,6 +52,7 @@ use glam::Vec3;
 
 use crate::camera::Camera;
 use crate::heightfield::{ColumnHint, HeightField};
+use crate::packet::{LANES, PACKETS};
 use crate::pixel::Pixel;
 pub use crate::render_error::{FixedLimit, RenderError, MAX_AA, MAX_SAMPLES_PER_SIDE};
 use crate::scene::{ParseOptions, Scene};
@@ -165,6 +169,21 @@ pub(crate) fn drive<T: Copy>(
     sink: &mut impl FnMut(u32, &[T]) -> ControlFlow<()>,
     mut pixel: impl FnMut(u32, u32, &mut Stats) -> T,
 ) -> Stats {
+    drive_rows(settings, line, sink, |y, line, stats| {
+        for (x, slot) in line.iter_mut().enumerate() {
+            *slot = pixel(x as u32, y, stats);
+        }
+    })
+}
+
+/// Runs the rows: `row(y, line, stats)` fills `line` with row `y`, which
+/// is then handed to the sink.
+fn drive_rows<T: Copy>(
+    settings: &RenderSettings,
+    line: &mut [T],
+    sink: &mut impl FnMut(u32, &[T]) -> ControlFlow<()>,
+    mut row: impl FnMut(u32, &mut [T], &mut Stats),
+) -> Stats {
     let mut stats = Stats::default();
     let rows = settings.rows.clone();
     let bottom_up = settings.order == RowOrder::BottomUp;
@@ -175,9 +194,7 @@ pub(crate) fn drive<T: Copy>(
         } else {
             rows.start + k
         };
-        for (x, slot) in line.iter_mut().enumerate() {
-            *slot = pixel(x as u32, y, &mut stats);
-        }
+        row(y, line, &mut stats);
         stats.rows += 1;
         if sink(y, line).is_break() {
             stats.cancelled = true;
@@ -332,6 +349,24 @@ fn render_depth_with<const O: usize, const L: usize, const G: usize>(
     let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
     let tracer = Tracer::new(scene, fields)?;
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
+    if PACKETS && hints.is_none() {
+        // Packets of neighbouring pixels of the row, the same depths
+        // (`Tracer::depth_camera_packet`); the row's last pixels one by one.
+        return Ok(drive_rows(settings, line, sink, |y, line, stats| {
+            let cy = y as f32 + 0.5;
+            let ray = |x: usize| camera.camera_ray(x as f32 + 0.5, cy);
+            let first = line.len() / LANES * LANES;
+            let mut packets = line.chunks_exact_mut(LANES);
+            for (k, out) in (&mut packets).enumerate() {
+                let x = core::array::from_fn(|l| (k * LANES + l) as f32 + 0.5);
+                let cams = camera.camera_packet(&x, cy);
+                out.copy_from_slice(&tracer.depth_camera_packet(&cams, stats));
+            }
+            for (k, slot) in packets.into_remainder().iter_mut().enumerate() {
+                *slot = tracer.depth_camera(&ray(first + k), None, stats);
+            }
+        }));
+    }
     Ok(drive(settings, line, sink, |x, y, stats| {
         let h = sample_hints(&mut hints, fields.len(), settings, x, 0, 0);
         let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);

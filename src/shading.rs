@@ -78,9 +78,10 @@
 use glam::Vec3;
 use heapless::Vec;
 
-use crate::camera::CameraRay;
+use crate::camera::{CameraPacket, CameraRay};
 use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField};
+use crate::packet::LANES;
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::render_error::{RenderError, MAX_AA};
@@ -440,6 +441,52 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         stats.primary_rays += 1;
         stats.add_work(&counters);
         stats.hits += u64::from(hit);
+        best_t
+    }
+
+    /// [`depth_camera`](Self::depth_camera) (without hints) of each lane
+    /// of `cams`, neighbouring camera rays whose height-field walks are set
+    /// up together ([`HeightField::intersect_t_packet`]): the same depths,
+    /// bit for bit. Counts `LANES` primary rays.
+    pub fn depth_camera_packet(&self, cams: &CameraPacket, stats: &mut Stats) -> [f32; LANES] {
+        let mut counters = Counters::default();
+        let mut best_t = [f32::INFINITY; LANES];
+        let mut hit = [false; LANES];
+        for obj in &self.objects {
+            match *obj.placed.primitive() {
+                Primitive::HeightField { field_index } => {
+                    let Some(field) = self.fields.get(field_index) else {
+                        continue;
+                    };
+                    let walked =
+                        field.intersect_t_packet(&cams.walk, 0.0, f32::INFINITY, &mut counters);
+                    for l in 0..LANES {
+                        if let Some(t) = walked[l] {
+                            best_t[l] = best_t[l].min(t * cams.length[l]);
+                            hit[l] = true;
+                        }
+                    }
+                }
+                #[cfg(feature = "primitives")]
+                _ => {
+                    for l in 0..LANES {
+                        if let Some(h) = obj.placed.intersect_local(
+                            &cams.ray.ray(l),
+                            0.0,
+                            best_t[l],
+                            self.fields,
+                            &mut counters,
+                        ) {
+                            best_t[l] = best_t[l].min(h.t());
+                            hit[l] = true;
+                        }
+                    }
+                }
+            }
+        }
+        stats.primary_rays += LANES as u64;
+        stats.add_work(&counters);
+        stats.hits += hit.iter().filter(|&&h| h).count() as u64;
         best_t
     }
 

@@ -13,10 +13,12 @@ mod common;
 
 use common::modes::Modes;
 use common::{random_heights, terrain, Rng};
-use glam::Vec3;
+use glam::{DAffine3, DQuat, DVec3, Vec3};
+use hfray::packet::LANES;
+use hfray::scene::{CameraDesc, Projection};
 use hfray::{
-    Counters, HeightConvention, HeightField, Ray, Real, Samples, SkipError, SkipGrid, SkipLayout,
-    Traversal,
+    Camera, CameraRay, Counters, HeightConvention, HeightField, Ray, Real, Samples, SkipError,
+    SkipGrid, SkipLayout, Transform, Traversal,
 };
 
 /// Rays in grid space (cell = 1), designed to stress block exits.
@@ -469,4 +471,247 @@ fn shadow_rays_from_the_surface_agree_in_every_mode() {
         occluded > 300 && lit > 300,
         "occluded {occluded}, lit {lit}"
     );
+}
+
+/// A packet lane that the packet set-up does not take itself and hands to
+/// the scalar walk (or that stresses its checks): parallel or tiny axes,
+/// non-finite components, a zero direction, an origin outside the box.
+fn odd_lane(rng: &mut Rng, base: &Ray) -> Ray {
+    let (o, d) = (base.origin, base.direction);
+    match rng.int(0, 8) {
+        0 => Ray::new(o, Vec3::new(0.0, d.y, d.z)),
+        1 => Ray::new(o, Vec3::new(d.x, d.y, -0.0)),
+        2 => Ray::new(o, Vec3::new(0.0, -1.0, 0.0)),
+        3 => Ray::new(o, Vec3::new(d.x, 0.0, d.z)),
+        4 => Ray::new(o, d * 1e-39),
+        5 => Ray::new(o, Vec3::new(1e-42, d.y, d.z)),
+        6 => Ray::new(Vec3::new(f32::NAN, o.y, o.z), d),
+        7 => Ray::new(o, Vec3::new(d.x, f32::INFINITY, d.z)),
+        _ => Ray::new(o, Vec3::ZERO),
+    }
+}
+
+/// Four rays for one packet: independent adversarial rays, a "camera
+/// row" (one ray's direction nudged lane by lane, so lanes share their
+/// first blocks and part), or such a row with one odd lane. The `t` range
+/// is the first ray's.
+fn packet_rays(
+    rng: &mut Rng,
+    cu: f64,
+    cv: f64,
+    world: &dyn Fn([f64; 3], [f64; 3]) -> Ray,
+) -> ([Ray; LANES], f32, f32) {
+    let (o, d, t_min, t_max) = adversarial_ray(rng, cu, cv);
+    let base = world(o, d);
+    let rays = match rng.int(0, 2) {
+        0 => std::array::from_fn(|l| {
+            if l == 0 {
+                base
+            } else {
+                let (o, d, _, _) = adversarial_ray(rng, cu, cv);
+                world(o, d)
+            }
+        }),
+        kind => {
+            let nudge = 10f64.powf(rng.range(-7.0, -1.0));
+            let across = [
+                rng.range(-1.0, 1.0),
+                rng.range(-0.1, 0.1),
+                rng.range(-1.0, 1.0),
+            ];
+            let mut row: [Ray; LANES] = std::array::from_fn(|l| {
+                let k = l as f64 * nudge;
+                world(o, [0, 1, 2].map(|c| d[c] + k * across[c]))
+            });
+            if kind == 2 {
+                let l = rng.int(0, LANES as u32 - 1) as usize;
+                row[l] = odd_lane(rng, &row[l]);
+            }
+            row
+        }
+    };
+    (rays, t_min as f32, t_max as f32)
+}
+
+fn run_packets(seed: u64, fields: u32, packets: u32, max_side: u32) -> (u64, u64) {
+    let mut rng = Rng::new(seed);
+    let (mut queries, mut hits) = (0u64, 0u64);
+    for _ in 0..fields {
+        let w = rng.int(2, max_side);
+        let d = rng.int(2, max_side);
+        let data = if rng.chance(0.5) {
+            terrain(&mut rng, w, d)
+        } else {
+            random_heights(&mut rng, w, d)
+        };
+        let water = if rng.chance(0.3) {
+            rng.range(0.0, 0.8) as f32
+        } else {
+            0.0
+        };
+        // Half the fields placed in the world (scaled, turned, moved), so
+        // that the lane-wise grid transform has every term.
+        let placed = rng.chance(0.5);
+        let (scale, turn, shift) = (
+            DVec3::new(
+                rng.range(0.5, 40.0),
+                rng.range(0.1, 9.0),
+                rng.range(0.5, 40.0),
+            ),
+            rng.range(-180.0, 180.0),
+            DVec3::new(
+                rng.range(-50.0, 50.0),
+                rng.range(-5.0, 5.0),
+                rng.range(-50.0, 50.0),
+            ),
+        );
+        let mut field = HeightField::new(Samples::U8(&data), w, d, HeightConvention::Gray8)
+            .unwrap()
+            .with_water_level(water)
+            .unwrap();
+        let to_world = if placed {
+            field = field.with_transform(
+                Transform::scale(scale)
+                    .unwrap()
+                    .then(&Transform::rotate_degrees(DVec3::new(0.0, turn, 0.0)).unwrap())
+                    .then(&Transform::translate(shift).unwrap()),
+            );
+            DAffine3::from_scale_rotation_translation(
+                scale,
+                DQuat::from_rotation_y(turn.to_radians()),
+                shift,
+            )
+        } else {
+            DAffine3::IDENTITY
+        };
+        let (cu, cv) = ((w - 1) as f64, (d - 1) as f64);
+        let world = |o: [f64; 3], d: [f64; 3]| {
+            let o = to_world.transform_point3(DVec3::new(o[0] / cu, o[1], o[2] / cv));
+            let d = to_world.transform_vector3(DVec3::new(d[0] / cu, d[1], d[2] / cv));
+            Ray::new(o.as_vec3(), d.as_vec3())
+        };
+        let mut modes = Modes::new(&field);
+        for _ in 0..packets {
+            let (rays, t_min, t_max) = packet_rays(&mut rng, cu, cv, &world);
+            let found = modes.intersect_packet(&field, &rays, t_min, t_max);
+            hits += found.iter().flatten().count() as u64;
+            queries += LANES as u64;
+        }
+    }
+    (queries, hits)
+}
+
+/// Packets of neighbouring, independent and odd rays: every lane is its
+/// ray's own walk, bit for bit (hit, point, cell, `t` and work counted), in
+/// the flat walk and every skip mode.
+#[test]
+fn packets_match_each_rays_own_walk_in_every_mode() {
+    let (q, h) = run_packets(21, 200, 120, 140);
+    eprintln!("{q} packet lanes × 11 modes, {h} hits");
+    assert!(q >= 90_000 && h > q / 10);
+}
+
+/// The packet's shared `t` range at its edges: empty, inverted, NaN,
+/// infinite at both ends, starting past the field.
+#[test]
+fn packets_with_degenerate_t_ranges_match() {
+    let mut rng = Rng::new(22);
+    let data = terrain(&mut rng, 33, 29);
+    let field = HeightField::new(Samples::U8(&data), 33, 29, HeightConvention::Gray8).unwrap();
+    let mut modes = Modes::new(&field);
+    let world = |o: [f64; 3], d: [f64; 3]| {
+        Ray::new(
+            Vec3::new((o[0] / 32.0) as f32, o[1] as f32, (o[2] / 28.0) as f32),
+            Vec3::new((d[0] / 32.0) as f32, d[1] as f32, (d[2] / 28.0) as f32),
+        )
+    };
+    let ranges = [
+        (0.0, 0.0),
+        (1.0, 0.5),
+        (f32::NAN, 1.0),
+        (0.0, f32::NAN),
+        (f32::NEG_INFINITY, f32::INFINITY),
+        (f32::INFINITY, f32::INFINITY),
+        (1e30, f32::INFINITY),
+        (-1.0, 1e-30),
+    ];
+    let mut hits = 0;
+    for _ in 0..300 {
+        let (rays, ..) = packet_rays(&mut rng, 32.0, 28.0, &world);
+        for (t_min, t_max) in ranges {
+            hits += modes
+                .intersect_packet(&field, &rays, t_min, t_max)
+                .iter()
+                .flatten()
+                .count();
+        }
+    }
+    assert!(hits > 0);
+}
+
+/// `Camera::camera_packet` gives each lane `camera_ray` of its pixel, bit
+/// for bit: perspective and orthographic cameras, level, pitched and
+/// rolled, at pixel centres, edges and arbitrary positions.
+#[test]
+fn camera_packets_are_the_camera_rays_of_their_lanes() {
+    let mut rng = Rng::new(23);
+    let mut checked = 0;
+    for _ in 0..400 {
+        let location = Vec3::new(
+            rng.range(-10.0, 10.0) as f32,
+            rng.range(-1.0, 10.0) as f32,
+            rng.range(-10.0, 10.0) as f32,
+        );
+        let look = location
+            + Vec3::new(
+                rng.range(-1.0, 1.0) as f32,
+                rng.range(-1.0, 0.2) as f32,
+                rng.range(-1.0, 1.0) as f32,
+            );
+        let (w, h) = (rng.int(1, 1000), rng.int(1, 700));
+        let desc = CameraDesc {
+            projection: if rng.chance(0.3) {
+                Projection::Orthographic
+            } else {
+                Projection::Perspective
+            },
+            location,
+            look_at: look,
+            sky: Vec3::new(rng.range(-0.3, 0.3) as f32, 1.0, 0.0),
+            right: Vec3::new(w as f32 / h as f32, 0.0, 0.0),
+            angle: rng.chance(0.5).then(|| rng.range(5.0, 170.0) as f32),
+            ..CameraDesc::default()
+        };
+        let Ok(camera) = Camera::new(&desc, w, h) else {
+            continue;
+        };
+        for _ in 0..20 {
+            let y = rng.range(0.0, h as f64) as f32;
+            let x: [f32; LANES] = if rng.chance(0.5) {
+                let x0 = rng.int(0, w) as f32 + 0.5;
+                std::array::from_fn(|l| x0 + l as f32)
+            } else {
+                std::array::from_fn(|_| rng.range(-1.0, w as f64 + 1.0) as f32)
+            };
+            let packet = camera.camera_packet(&x, y);
+            for (l, &x) in x.iter().enumerate() {
+                let (got, want) = (packet.camera_ray(l), camera.camera_ray(x, y));
+                let bits = |c: &CameraRay| {
+                    let v = [
+                        c.ray.origin,
+                        c.ray.direction,
+                        c.walk.origin,
+                        c.walk.direction,
+                    ];
+                    (
+                        v.map(|v| v.to_array().map(f32::to_bits)),
+                        c.length.to_bits(),
+                    )
+                };
+                assert_eq!(bits(&got), bits(&want), "{desc:?} {w}x{h} at ({x}, {y})");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 20_000);
 }

@@ -16,11 +16,11 @@ use common::{terrain, Rng};
 use hfray::glam::{DVec3, Vec3};
 use hfray::scene::{CameraDesc, Finish, Object, Pigment, Projection, Shape};
 use hfray::{
-    render, render_coherent, render_depth, render_depth_coherent, ColumnHint, HeightConvention,
-    HeightField, RenderError, RenderSettings, Rgb888, RowOrder, Samples, SkipGrid, SkipLayout,
-    Stats, Transform, Traversal,
+    render, render_coherent, render_depth, render_depth_coherent, Camera, ColumnHint,
+    HeightConvention, HeightField, RenderError, RenderSettings, Rgb888, RowOrder, Samples,
+    SkipGrid, SkipLayout, Stats, Tracer, Transform, Traversal,
 };
-use render_common::{light, scene, TestScene};
+use render_common::{light, object, scene, unit_sphere, TestScene};
 
 const SIDE: u32 = 97;
 const W: u32 = 48;
@@ -404,4 +404,60 @@ fn too_few_column_hints_is_an_error() {
             given: (W * 4 - 1) as usize
         }
     );
+}
+
+/// The depth AOV traces its rows in packets of neighbouring pixels
+/// (`Tracer::depth_camera_packet`): each depth is the pixel's own
+/// `depth_camera`, bit for bit, and the work counted is the same, for every
+/// camera, mode and water level, with and without an analytic object in
+/// the scene, and on rows whose length is not a multiple of the packet
+/// (their last pixels are traced one by one).
+#[test]
+fn depth_packets_match_each_pixels_own_depth() {
+    let data = Fields::new(9);
+    for (name, camera, _) in cameras(&data) {
+        for with_sphere in [false, true] {
+            let mut s = test_scene(camera);
+            if with_sphere {
+                let mut ball = object(unit_sphere(), Vec3::ONE, Finish::default());
+                ball.transform = Transform::scale(DVec3::splat(0.08))
+                    .unwrap()
+                    .then(&Transform::translate(DVec3::new(0.5, 0.2, 0.5)).unwrap());
+                s.objects.push(ball).unwrap();
+            }
+            for mode in MODES {
+                for water in [0.0, 0.12] {
+                    let fields = [data.field(water, mode)];
+                    for width in [W, W + 3] {
+                        let cam = Camera::new(&s.camera, width, H).unwrap();
+                        let tracer = Tracer::new(&s, &fields).unwrap();
+                        let mut line = vec![0f32; width as usize];
+                        let mut one_by_one = Stats::default();
+                        let packets = render_depth(
+                            &s,
+                            &fields,
+                            &RenderSettings::new(width, H),
+                            &mut line,
+                            &mut |y, row: &[f32]| {
+                                for (x, depth) in row.iter().enumerate() {
+                                    let ray = cam.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                                    let want = tracer.depth_camera(&ray, None, &mut one_by_one);
+                                    assert_eq!(
+                                        depth.to_bits(),
+                                        want.to_bits(),
+                                        "{name} {mode:?} water {water} sphere {with_sphere} \
+                                         {width} wide: pixel ({x}, {y})"
+                                    );
+                                }
+                                ControlFlow::Continue(())
+                            },
+                        )
+                        .unwrap();
+                        let work = |s: &Stats| (s.primary_rays, s.hits, s.cells, s.blocks);
+                        assert_eq!(work(&packets), work(&one_by_one), "{name} {mode:?}");
+                    }
+                }
+            }
+        }
+    }
 }

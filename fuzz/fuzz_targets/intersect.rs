@@ -21,12 +21,16 @@
 //! gives the flat walk's bits, and so does `intersect_coherent` on a column
 //! of three rays sharing the ray's origin and `x`, `z` direction, and on
 //! an image column of the renderer's walk rays (`Camera::camera_ray`) of a
-//! level camera at the ray's origin.
+//! level camera at the ray's origin; and so does each lane of a packet
+//! (`intersect_packet`, `intersect_t_packet`) of the ray, neighbours and
+//! the previous case's ray, and of a camera row (`Camera::camera_packet`,
+//! whose lanes are `camera_ray`'s bits).
 #![no_main]
 
 use arbitrary::Arbitrary;
 use hfray::glam::{DAffine3, DVec3, Vec3};
 use hfray::scene::CameraDesc;
+use hfray::packet::{RayPacket, LANES};
 use hfray::{
     Camera, ColumnHint, Counters, HeightConvention, HeightField, Ray, Samples, SkipGrid, SkipLayout,
     Transform, Traversal,
@@ -314,6 +318,8 @@ fuzz_target!(|input: Input| {
         format!("{a:?}") == format!("{b:?}")
     };
 
+    // The previous case's ray, a packet lane unrelated to the others.
+    let mut previous = Ray::new(Vec3::ZERO, Vec3::ZERO);
     for case in input.cases.iter().take(16) {
         let (o, dir) = match &case.ray {
             RayIn::Raw { o, d } => (
@@ -428,6 +434,26 @@ fuzz_target!(|input: Input| {
                 "coherent walk differs from flat"
             );
         }
+        // Packets: the ray, neighbours (direction nudged, as the next
+        // pixels' rays are) and the previous case's ray; each lane is its
+        // own ray's walk, in the hierarchy and flat.
+        let nudge = dir.abs().max_element() * 1e-3;
+        let lanes: [Ray; LANES] = std::array::from_fn(|l| match l {
+            0 => ray,
+            l if l == LANES - 1 => previous,
+            _ => Ray::new(o, dir + Vec3::new(nudge * l as f32, 0.0, -nudge)),
+        });
+        previous = ray;
+        let packet = RayPacket::from_rays(&lanes);
+        for g in [&hier, &flat] {
+            let hits = g.intersect_packet(&packet, t_min, t_max, &mut Counters::default());
+            let ts = g.intersect_t_packet(&packet, t_min, t_max, &mut Counters::default());
+            for l in 0..LANES {
+                let alone = flat.intersect(&lanes[l], t_min, t_max);
+                assert!(same(&hits[l], &alone), "packet lane {l} differs from its own walk");
+                assert_eq!(ts[l].map(f32::to_bits), alone.map(|h| h.t.to_bits()), "lane {l} t");
+            }
+        }
         // The renderer's walk rays (`Camera::camera_ray`) of a level
         // camera at the ray's origin looking along its horizontal
         // direction: one image column, bottom-up, coherent = flat.
@@ -442,6 +468,18 @@ fuzz_target!(|input: Input| {
                 let coherent = hier.intersect_coherent(&r, 0.0, f32::INFINITY, &mut hint, &mut cc);
                 let plain = flat.intersect(&r, 0.0, f32::INFINITY);
                 assert!(same(&coherent, &plain), "coherent camera column differs from flat");
+            }
+            // A packet of that camera's row: its lanes are the camera rays,
+            // and walk as they do.
+            let xs: [f32; LANES] = std::array::from_fn(|l| x - 1.0 + l as f32);
+            let y = 0.5 + (t_max.abs() % 1.0) * 8.0;
+            let cams = camera.camera_packet(&xs, y);
+            let walks = hier.intersect_packet(&cams.walk, 0.0, f32::INFINITY, &mut cc);
+            for l in 0..LANES {
+                let want = camera.camera_ray(xs[l], y);
+                assert_eq!(format!("{:?}", cams.camera_ray(l)), format!("{want:?}"), "camera lane {l}");
+                let plain = flat.intersect(&want.walk, 0.0, f32::INFINITY);
+                assert!(same(&walks[l], &plain), "camera packet lane {l} differs from flat");
             }
         }
         // The f64 path on the same ray.

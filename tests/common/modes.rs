@@ -6,6 +6,7 @@
 //! bit. The flat answer is returned, so a suite written against the flat
 //! walk (oracle, hard cases, cracks) checks every mode at once.
 
+use hfray::packet::{RayPacket, LANES};
 use hfray::traversal::GridHit;
 use hfray::{Counters, FieldHit, HeightField, Ray, Real, SkipGrid, SkipLayout, Traversal};
 
@@ -99,6 +100,44 @@ impl Modes {
         reference
     }
 
+    /// `intersect_packet` and `intersect_t_packet` in the flat walk and
+    /// every mode; panics unless each lane is, bit for bit, [`Self::intersect`]
+    /// of its ray (which checks the modes against the flat walk).
+    pub fn intersect_packet(
+        &mut self,
+        field: &HeightField<'_>,
+        rays: &[Ray; LANES],
+        t_min: f32,
+        t_max: f32,
+    ) -> [Option<FieldHit>; LANES] {
+        let reference: [Option<FieldHit>; LANES] =
+            std::array::from_fn(|l| self.intersect(field, &rays[l], t_min, t_max));
+        let packet = RayPacket::from_rays(rays);
+        let flat = field.clone().with_traversal(Traversal::Flat);
+        let mut runs = vec![(
+            "Flat".to_string(),
+            packet_hits(&flat, &packet, t_min, t_max),
+        )];
+        runs.extend(self.each(field, |g, _| packet_hits(g, &packet, t_min, t_max)));
+        for (name, (hits, ts, counters, alone)) in runs {
+            for l in 0..LANES {
+                assert!(
+                    same_field_hit(&reference[l], &hits[l])
+                        && ts[l].map(f32::to_bits) == reference[l].map(|h| h.t.to_bits()),
+                    "packet lane {l} in mode {name} differs from the ray's own walk: \
+                     {:?} vs {:?} (ray {:?} t=[{t_min},{t_max}] field {}x{})",
+                    hits[l],
+                    reference[l],
+                    rays[l],
+                    field.width(),
+                    field.depth()
+                );
+            }
+            assert_eq!(counters, alone, "packet work counted in mode {name}");
+        }
+        reference
+    }
+
     /// `intersect` (f32) in every mode; panics on any disagreement.
     pub fn intersect(
         &mut self,
@@ -137,5 +176,42 @@ impl Modes {
             );
         }
         reference
+    }
+}
+
+/// Both packet entries on `field`: the hits, the `t`s, the work counted by
+/// `intersect_packet`, and the work its rays count one by one.
+fn packet_hits(
+    field: &HeightField<'_>,
+    packet: &RayPacket,
+    t_min: f32,
+    t_max: f32,
+) -> (
+    [Option<FieldHit>; LANES],
+    [Option<f32>; LANES],
+    Counters,
+    Counters,
+) {
+    let mut counters = Counters::default();
+    let hits = field.intersect_packet(packet, t_min, t_max, &mut counters);
+    let ts = field.intersect_t_packet(packet, t_min, t_max, &mut Counters::default());
+    let mut alone = Counters::default();
+    for l in 0..LANES {
+        field.intersect_counted(&packet.ray(l), t_min, t_max, &mut alone);
+    }
+    (hits, ts, counters, alone)
+}
+
+fn same_field_hit(a: &Option<FieldHit>, b: &Option<FieldHit>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(a), Some(b)) => {
+            a.t.to_bits() == b.t.to_bits()
+                && (a.cell_x, a.cell_z, a.triangle) == (b.cell_x, b.cell_z, b.triangle)
+                && a.local.0.to_bits() == b.local.0.to_bits()
+                && a.local.1.to_bits() == b.local.1.to_bits()
+                && a.point.to_array().map(f32::to_bits) == b.point.to_array().map(f32::to_bits)
+        }
+        _ => false,
     }
 }
