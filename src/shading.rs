@@ -104,10 +104,14 @@ pub const COLOUR_LIMIT: f32 = f32::MAX / (MAX_AA * MAX_AA) as f32;
 #[inline]
 fn saturate(v: Vec3) -> Vec3 {
     Vec3::from_array(v.to_array().map(|c| {
-        if c.is_nan() {
+        // One compare for the colours that need nothing (all sane ones);
+        // NaN fails it.
+        if c.abs() <= COLOUR_LIMIT {
+            c
+        } else if c.is_nan() {
             0.0
         } else {
-            c.clamp(-COLOUR_LIMIT, COLOUR_LIMIT)
+            COLOUR_LIMIT.copysign(c)
         }
     }))
 }
@@ -550,8 +554,13 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         };
         stats.hits += 1;
         let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
-        let local = self.shade(p, &surface, hit_level, pending, stats, counters);
-        saturate(p.mult * saturate(local))
+        let local = saturate(self.shade(p, &surface, hit_level, pending, stats, counters));
+        // A primary ray's multiplier is one: `1 · local` is `local`, already
+        // saturated.
+        if p.kind == Kind::Primary {
+            return local;
+        }
+        saturate(p.mult * local)
     }
 
     /// Local colour at a hit; pushes the reflected and continued rays.
