@@ -114,7 +114,13 @@ pub(crate) fn length(v: Vec3) -> f32 {
 /// `v / |v|`, or zero if that is not finite; as `Vec3::normalize_or_zero`.
 #[inline(always)]
 pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
-    let rcp = 1.0 / length(v);
+    normalize_or_zero_by(v, length(v))
+}
+
+/// [`normalize_or_zero`] of `v` given its `length(v)`.
+#[inline(always)]
+pub(crate) fn normalize_or_zero_by(v: Vec3, length: f32) -> Vec3 {
+    let rcp = 1.0 / length;
     // `rcp.is_finite() && rcp > 0.0` as glam writes it, in two float
     // compares (`is_finite` is bit arithmetic: 15 more instructions on the
     // Cortex-M4F); NaN fails both.
