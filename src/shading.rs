@@ -708,7 +708,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     ) -> Vec3 {
         let to_light = light.position - hit.point;
         let dist = crate::math::length(to_light);
-        if !(dist > 0.0 && dist.is_finite()) {
+        // `dist <= f32::MAX`: `is_finite` for a positive value, in one
+        // float compare (`is_finite` is bit arithmetic on the Cortex-M4F).
+        if !(dist > 0.0 && dist <= f32::MAX) {
             return Vec3::ZERO;
         }
         let l = to_light / dist;
@@ -843,7 +845,8 @@ fn starts_on_side(field: &HeightField<'_>, origin: Vec3, dir: Vec3, side: f32) -
     let [u, y, v] = g.origin;
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;
-    if !(u >= 0.0 && v >= 0.0 && u <= cells_u as f32 && v <= cells_v as f32 && y.is_finite()) {
+    let y_finite = y.abs() <= f32::MAX; // NaN fails it
+    if !(u >= 0.0 && v >= 0.0 && u <= cells_u as f32 && v <= cells_v as f32 && y_finite) {
         return true;
     }
     let first = |p: f32, d: f32, cells: i32| {
