@@ -58,7 +58,22 @@ pub fn channel_to_u8(v: f32) -> u8 {
     // saturates and takes NaN to 0, as the FPU's own conversion does (one
     // `vcvt` on the Cortex-M4F, no compare or branch); the integer clamp is
     // one `usat`.
-    (s as i32).clamp(0, 255) as u8
+    #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+    {
+        (s as i32).clamp(0, 255) as u8
+    }
+    // The x87's float-to-int conversion switches the rounding mode and back:
+    // there the clamps are comparisons and the floor comes from rounding.
+    #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+    {
+        if s >= 255.0 {
+            255
+        } else if s >= 1.0 {
+            crate::math::floor_to_u8_by_rounding(s)
+        } else {
+            0
+        }
+    }
 }
 
 impl Pixel for Rgb888 {
