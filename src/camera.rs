@@ -331,11 +331,19 @@ impl Camera {
     pub fn camera_ray(&self, x: f32, y: f32) -> CameraRay {
         let walk = self.walk_ray(x, y);
         match self.projection {
-            Projection::Perspective => CameraRay {
-                ray: Ray::new(walk.origin, crate::math::normalize_or_zero(walk.direction)),
-                walk,
-                length: crate::math::length(walk.direction),
-            },
+            Projection::Perspective => {
+                // One square root for both (the hardware one is opaque to
+                // the optimiser, which would not merge two).
+                let length = crate::math::length(walk.direction);
+                CameraRay {
+                    ray: Ray::new(
+                        walk.origin,
+                        crate::math::normalize_or_zero_by(walk.direction, length),
+                    ),
+                    walk,
+                    length,
+                }
+            }
             Projection::Orthographic => CameraRay {
                 ray: walk,
                 walk,

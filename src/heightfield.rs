@@ -860,7 +860,9 @@ impl<'a> HeightField<'a> {
     /// `ray.at(t)` whenever that is finite.
     fn hit_point(&self, ray: &Ray, t: f32, object_point: Vec3) -> Vec3 {
         let p = ray.at(t);
-        if p.is_finite() {
+        // `p.is_finite()` in float compares (NaN fails them).
+        let finite = |c: f32| c.abs() <= f32::MAX;
+        if finite(p.x) && finite(p.y) && finite(p.z) {
             return p;
         }
         self.transform

@@ -53,16 +53,26 @@ pub struct Rgb888(pub [u8; 3]);
 #[inline]
 pub fn channel_to_u8(v: f32) -> u8 {
     let s = v * 255.0 + 0.5;
-    // `floor(s)` is 255 or more exactly when `s` is, positive exactly when
-    // `s >= 1`, and between those truncation is the floor: no `floorf`
-    // (a libm call on x86-64 and the Cortex-M4F). NaN fails both
-    // comparisons and ends up 0.
-    if s >= 255.0 {
-        255
-    } else if s >= 1.0 {
-        s as u8
-    } else {
-        0
+    // For `s >= 0` truncation is the floor, and below 1 both clamp to 0: no
+    // `floorf` (a libm call on x86-64 and the Cortex-M4F). `as i32`
+    // saturates and takes NaN to 0, as the FPU's own conversion does (one
+    // `vcvt` on the Cortex-M4F, no compare or branch); the integer clamp is
+    // one `usat`.
+    #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+    {
+        (s as i32).clamp(0, 255) as u8
+    }
+    // The x87's float-to-int conversion switches the rounding mode and back:
+    // there the clamps are comparisons and the floor comes from rounding.
+    #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+    {
+        if s >= 255.0 {
+            255
+        } else if s >= 1.0 {
+            crate::math::floor_to_u8_by_rounding(s)
+        } else {
+            0
+        }
     }
 }
 

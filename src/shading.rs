@@ -105,10 +105,14 @@ pub const COLOUR_LIMIT: f32 = f32::MAX / (MAX_AA * MAX_AA) as f32;
 #[inline]
 fn saturate(v: Vec3) -> Vec3 {
     Vec3::from_array(v.to_array().map(|c| {
-        if c.is_nan() {
+        // One compare for the colours that need nothing (all sane ones);
+        // NaN fails it.
+        if c.abs() <= COLOUR_LIMIT {
+            c
+        } else if c.is_nan() {
             0.0
         } else {
-            c.clamp(-COLOUR_LIMIT, COLOUR_LIMIT)
+            COLOUR_LIMIT.copysign(c)
         }
     }))
 }
@@ -597,8 +601,13 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         };
         stats.hits += 1;
         let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
-        let local = self.shade(p, &surface, hit_level, pending, stats, counters);
-        saturate(p.mult * saturate(local))
+        let local = saturate(self.shade(p, &surface, hit_level, pending, stats, counters));
+        // A primary ray's multiplier is one: `1 · local` is `local`, already
+        // saturated.
+        if p.kind == Kind::Primary {
+            return local;
+        }
+        saturate(p.mult * local)
     }
 
     /// Local colour at a hit; pushes the reflected and continued rays.
@@ -746,7 +755,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     ) -> Vec3 {
         let to_light = light.position - hit.point;
         let dist = crate::math::length(to_light);
-        if !(dist > 0.0 && dist.is_finite()) {
+        // `dist <= f32::MAX`: `is_finite` for a positive value, in one
+        // float compare (`is_finite` is bit arithmetic on the Cortex-M4F).
+        if !(dist > 0.0 && dist <= f32::MAX) {
             return Vec3::ZERO;
         }
         let l = to_light / dist;
@@ -881,7 +892,8 @@ fn starts_on_side(field: &HeightField<'_>, origin: Vec3, dir: Vec3, side: f32) -
     let [u, y, v] = g.origin;
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;
-    if !(u >= 0.0 && v >= 0.0 && u <= cells_u as f32 && v <= cells_v as f32 && y.is_finite()) {
+    let y_finite = y.abs() <= f32::MAX; // NaN fails it
+    if !(u >= 0.0 && v >= 0.0 && u <= cells_u as f32 && v <= cells_v as f32 && y_finite) {
         return true;
     }
     let first = |p: f32, d: f32, cells: i32| {
