@@ -20,10 +20,12 @@
 //! normalised world-space camera ray (through the pixel centre, whatever
 //! `aa` says: averaging depths across an edge means nothing) from its
 //! origin to the first hit of any object, `f32::INFINITY` where nothing is
-//! hit. On desktop targets it traces each row in packets of [`LANES`]
-//! neighbouring pixels ([`crate::packet`]), with the same depths and
-//! counters; rays that column coherence may resume, and firmware builds,
-//! go one by one.
+//! hit.
+//!
+//! On desktop targets both trace each row's primary rays in packets of
+//! [`LANES`] neighbouring pixel centres ([`crate::packet`]; colour renders
+//! without AA), with the same pixels and counters; rays that column
+//! coherence may resume, AA samples and firmware builds go one by one.
 //!
 //! Height fields are passed separately (`fields[i]` for an object's
 //! `field_index` `i`); each carries its placement, water level and palette,
@@ -286,6 +288,28 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     let tracer = Tracer::new(scene, fields)?;
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     let n = settings.aa;
+    if PACKETS && n == 1 && hints.is_none() {
+        // Packets of neighbouring pixel centres of the row, the same colours
+        // (`Tracer::trace_camera_packet`); the row's last pixels one by one.
+        return Ok(drive_rows(settings, line, sink, |y, line, stats| {
+            let cy = y as f32 + 0.5;
+            let first = line.len() / LANES * LANES;
+            let mut packets = line.chunks_exact_mut(LANES);
+            for (k, out) in (&mut packets).enumerate() {
+                let x0 = k * LANES;
+                let xs = core::array::from_fn(|l| (x0 + l) as f32 + 0.5);
+                let colours = tracer.trace_camera_packet(&camera.camera_packet(&xs, cy), stats);
+                for (l, (slot, colour)) in out.iter_mut().zip(colours).enumerate() {
+                    *slot = P::from_linear(colour, (x0 + l) as u32, y);
+                }
+            }
+            for (k, slot) in packets.into_remainder().iter_mut().enumerate() {
+                let x = (first + k) as u32;
+                let cam = camera.camera_ray(x as f32 + 0.5, cy);
+                *slot = P::from_linear(tracer.trace_camera(&cam, None, stats), x, y);
+            }
+        }));
+    }
     let step = 1.0 / n as f32;
     let norm = 1.0 / (n * n) as f32;
     Ok(drive(settings, line, sink, |x, y, stats| {

@@ -148,6 +148,17 @@ fn grey(c: Vec3) -> f32 {
     0.297 * c.x + 0.589 * c.y + 0.114 * c.z
 }
 
+/// How a segment's nearest hit is found.
+enum Primary<'c, 'h> {
+    /// Along the segment's ray (secondary rays, and [`Tracer::trace`]).
+    Ray,
+    /// A camera ray: its height fields walked along `walk` (with the
+    /// column hints, if any), the other objects along `ray`.
+    Camera(&'c CameraRay, Option<&'h mut [ColumnHint]>),
+    /// Found already, with the other lanes of its packet.
+    Found(Option<(usize, LocalHit)>),
+}
+
 /// What kind of ray a pending segment is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Kind {
@@ -513,7 +524,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
 
     /// The linear colour seen along the primary `ray` (unit direction).
     pub fn trace(&self, ray: &Ray, stats: &mut Stats) -> Vec3 {
-        self.trace_from(ray, None, stats)
+        self.trace_from(ray, Primary::Ray, stats)
     }
 
     /// The linear colour seen along a camera ray: its first hit found by
@@ -526,15 +537,76 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         hints: Option<&mut [ColumnHint]>,
         stats: &mut Stats,
     ) -> Vec3 {
-        self.trace_from(&cam.ray, Some((cam, hints)), stats)
+        self.trace_from(&cam.ray, Primary::Camera(cam, hints), stats)
     }
 
-    fn trace_from(
+    /// [`trace_camera`](Self::trace_camera) of each lane of `cams`
+    /// (neighbouring pixels of a row, no hints): their height fields walked
+    /// as one packet ([`HeightField::intersect_packet`]), the same hits, so
+    /// the same colours and counters.
+    pub fn trace_camera_packet(&self, cams: &CameraPacket, stats: &mut Stats) -> [Vec3; LANES] {
+        if self.max_trace_level == 0 {
+            // No segment is traced, so nothing is walked (or counted).
+            return core::array::from_fn(|l| self.trace_camera(&cams.camera_ray(l), None, stats));
+        }
+        let mut counters = Counters::default();
+        let found = self.nearest_camera_packet(cams, &mut counters);
+        stats.add_work(&counters);
+        let mut colours = [Vec3::ZERO; LANES];
+        for (l, (colour, found)) in colours.iter_mut().zip(found).enumerate() {
+            *colour = self.trace_from(&cams.ray.ray(l), Primary::Found(found), stats);
+        }
+        colours
+    }
+
+    /// [`nearest_camera_local`](Self::nearest_camera_local) of each lane of
+    /// `cams`, without hints: the height fields walked as one packet.
+    #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
+    fn nearest_camera_packet(
         &self,
-        ray: &Ray,
-        camera: Option<(&CameraRay, Option<&mut [ColumnHint]>)>,
-        stats: &mut Stats,
-    ) -> Vec3 {
+        cams: &CameraPacket,
+        counters: &mut Counters,
+    ) -> [Option<(usize, LocalHit)>; LANES] {
+        let mut best_t = [f32::INFINITY; LANES];
+        let mut best = [None; LANES];
+        for (i, obj) in self.objects.iter().enumerate() {
+            let Primitive::HeightField { field_index } = *obj.placed.primitive() else {
+                continue;
+            };
+            let Some(field) = self.fields.get(field_index) else {
+                continue;
+            };
+            let hits = field.intersect_packet(&cams.walk, 0.0, f32::INFINITY, counters);
+            for (l, hit) in hits.into_iter().enumerate() {
+                if let Some(mut h) = hit {
+                    h.t *= cams.length[l];
+                    if h.t < best_t[l] {
+                        best_t[l] = h.t;
+                        best[l] = Some((i, LocalHit::Field(h)));
+                    }
+                }
+            }
+        }
+        #[cfg(feature = "primitives")]
+        for (l, best) in best.iter_mut().enumerate() {
+            let ray = cams.ray.ray(l);
+            for (i, obj) in self.objects.iter().enumerate() {
+                if matches!(obj.placed.primitive(), Primitive::HeightField { .. }) {
+                    continue;
+                }
+                if let Some(h) =
+                    obj.placed
+                        .intersect_local(&ray, 0.0, best_t[l], self.fields, counters)
+                {
+                    best_t[l] = h.t();
+                    *best = Some((i, h));
+                }
+            }
+        }
+        best
+    }
+
+    fn trace_from(&self, ray: &Ray, camera: Primary<'_, '_>, stats: &mut Stats) -> Vec3 {
         let mut counters = Counters::default();
         let mut pending: Vec<Pending, PENDING_CAPACITY> = Vec::new();
         // The primary ray is traced first and directly (not through the
@@ -561,7 +633,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 break;
             }
             segments += 1;
-            colour += self.segment(&p, None, &mut pending, stats, &mut counters);
+            colour += self.segment(&p, Primary::Ray, &mut pending, stats, &mut counters);
         }
         stats.add_work(&counters);
         saturate(colour)
@@ -574,7 +646,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     fn segment(
         &self,
         p: &Pending,
-        camera: Option<(&CameraRay, Option<&mut [ColumnHint]>)>,
+        camera: Primary<'_, '_>,
         pending: &mut Vec<Pending, PENDING_CAPACITY>,
         stats: &mut Stats,
         counters: &mut Counters,
@@ -589,8 +661,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         }
         // (A primary ray's `p.ray` is its camera's unit ray.)
         let found = match camera {
-            Some((cam, hints)) => self.nearest_camera_local(cam, hints, counters),
-            None => self.nearest_local(&p.ray, f32::INFINITY, counters),
+            Primary::Camera(cam, hints) => self.nearest_camera_local(cam, hints, counters),
+            Primary::Found(found) => found,
+            Primary::Ray => self.nearest_local(&p.ray, f32::INFINITY, counters),
         };
         let Some((object, local)) = found else {
             return saturate(p.mult * self.background);

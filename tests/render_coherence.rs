@@ -17,8 +17,8 @@ use hfray::glam::{DVec3, Vec3};
 use hfray::scene::{CameraDesc, Finish, Object, Pigment, Projection, Shape};
 use hfray::{
     render, render_coherent, render_depth, render_depth_coherent, Camera, ColumnHint,
-    HeightConvention, HeightField, RenderError, RenderSettings, Rgb888, RowOrder, Samples,
-    SkipGrid, SkipLayout, Stats, Tracer, Transform, Traversal,
+    HeightConvention, HeightField, LinearRgb, RenderError, RenderSettings, Rgb888, RowOrder,
+    Samples, SkipGrid, SkipLayout, Stats, Tracer, Transform, Traversal,
 };
 use render_common::{light, object, scene, unit_sphere, TestScene};
 
@@ -454,6 +454,60 @@ fn depth_packets_match_each_pixels_own_depth() {
                         )
                         .unwrap();
                         let work = |s: &Stats| (s.primary_rays, s.hits, s.cells, s.blocks);
+                        assert_eq!(work(&packets), work(&one_by_one), "{name} {mode:?}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The colour render traces rows in packets of neighbouring pixel centres
+/// (desktop targets, no AA, no hints): every pixel bit for bit
+/// `Tracer::trace_camera` of its own camera ray, and the same counters.
+#[test]
+fn colour_packets_match_each_pixels_own_colour() {
+    let data = Fields::new(9);
+    for (name, camera, _) in cameras(&data) {
+        for with_sphere in [false, true] {
+            let mut s = test_scene(camera);
+            if with_sphere {
+                let mut ball = object(unit_sphere(), Vec3::ONE, Finish::default());
+                ball.transform = Transform::scale(DVec3::splat(0.08))
+                    .unwrap()
+                    .then(&Transform::translate(DVec3::new(0.5, 0.2, 0.5)).unwrap());
+                s.objects.push(ball).unwrap();
+            }
+            for mode in MODES {
+                for water in [0.0, 0.12] {
+                    let fields = [data.field(water, mode)];
+                    for width in [W, W + 3] {
+                        let cam = Camera::new(&s.camera, width, H).unwrap();
+                        let tracer = Tracer::new(&s, &fields).unwrap();
+                        let mut line = vec![LinearRgb(Vec3::ZERO); width as usize];
+                        let mut one_by_one = Stats::default();
+                        let packets = render(
+                            &s,
+                            &fields,
+                            &RenderSettings::new(width, H),
+                            &mut line,
+                            &mut |y, row: &[LinearRgb]| {
+                                for (x, colour) in row.iter().enumerate() {
+                                    let ray = cam.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                                    let want = tracer.trace_camera(&ray, None, &mut one_by_one);
+                                    assert_eq!(
+                                        colour.0.to_array().map(f32::to_bits),
+                                        want.to_array().map(f32::to_bits),
+                                        "{name} {mode:?} water {water} sphere {with_sphere} \
+                                         {width} wide: pixel ({x}, {y})"
+                                    );
+                                }
+                                ControlFlow::Continue(())
+                            },
+                        )
+                        .unwrap();
+                        let work =
+                            |s: &Stats| (s.primary_rays, s.shadow_rays, s.hits, s.cells, s.blocks);
                         assert_eq!(work(&packets), work(&one_by_one), "{name} {mode:?}");
                     }
                 }
