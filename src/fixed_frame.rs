@@ -54,7 +54,7 @@ use glam::{DMat3, DVec3};
 use crate::camera::Camera;
 use crate::cell::Corners;
 use crate::heightfield::HeightField;
-use crate::pixel::{channel_to_u8, Rgb888};
+use crate::pixel::Rgb888;
 use crate::ray::Triangle;
 use crate::real::{mul_i32_wide, mul_u32_wide, top_bit, Real, Q16};
 pub use crate::render::FixedLimit;
@@ -374,6 +374,21 @@ type Rgb16 = [i32; 3];
 
 /// Colour factors are clamped to ±2^14 (in Q16: 2^30), far above any
 /// sane scene, so sums of a few stay inside `i32`.
+/// [`channel_to_u8`](crate::pixel::channel_to_u8) for the set-up, each
+/// `f32` rounding of `floor(v · 255 + 0.5)` made explicit. A 486SX build
+/// runs the set-up on the x87 at 53-bit precision, where an `f32` chain is
+/// rounded where register allocation stores it, not after each operation,
+/// and where `channel_to_u8`'s x87 floor (which relies on 24-bit
+/// precision) is off by one: the sky came out 159, not the host's 158.
+/// Here each `f64` step is exact (a 24-bit by 8-bit product; an `f32`
+/// below 2^24 plus 0.5, and above it the `f32` sum is the `f32` itself
+/// either way), so each `as f32` is that `f32` operation's one rounding;
+/// the saturating `as u8` is the floor clamped to `0..=255` (NaN: 0).
+fn set_up_channel_to_u8(v: f32) -> u8 {
+    let product = (f64::from(v) * 255.0) as f32;
+    ((f64::from(product) + 0.5) as f32) as u8
+}
+
 const LIMIT30: f64 = (1u64 << 30) as f64;
 
 fn rgb16(c: DVec3) -> Rgb16 {
@@ -585,9 +600,9 @@ impl<'a, const LIGHTS: usize> FixedTracer<'a, LIGHTS> {
             palette: palette_colors,
             smooth,
             background: Rgb888([
-                channel_to_u8(bg.x),
-                channel_to_u8(bg.y),
-                channel_to_u8(bg.z),
+                set_up_channel_to_u8(bg.x),
+                set_up_channel_to_u8(bg.y),
+                set_up_channel_to_u8(bg.z),
             ]),
             black: scene.settings.max_trace_level == 0,
             lit: finish.diffuse != 0.0,
@@ -899,6 +914,33 @@ mod tests {
             for k in 0..3 {
                 let got = n[k] as f64 / (1 << 28) as f64;
                 assert!((got - f[k]).abs() < 1e-7, "({a}, {b}): {n:?} vs {f}");
+            }
+        }
+    }
+
+    #[test]
+    fn set_up_channel_is_channel_to_u8_bit_for_bit() {
+        use crate::pixel::channel_to_u8;
+        // Every f32 in [-1, 2] whose bits are a multiple of 97 apart (the
+        // 8-bit steps' edges among them), and the odd values.
+        let sweep = (0..=u32::MAX / 97).map(|k| f32::from_bits(k * 97));
+        let odd = [
+            f32::NAN,
+            f32::INFINITY,
+            -f32::INFINITY,
+            0.0,
+            -0.0,
+            f32::MAX,
+            1e-45,
+        ];
+        for v in sweep.filter(|v| (-1.0..=2.0).contains(v)).chain(odd) {
+            assert_eq!(set_up_channel_to_u8(v), channel_to_u8(v), "{v:e}");
+        }
+        // The edges themselves: v with v·255 + 0.5 next to an integer.
+        for k in 0..=256u32 {
+            let edge = (k as f32 - 0.5) / 255.0;
+            for v in [edge.next_down(), edge, edge.next_up()] {
+                assert_eq!(set_up_channel_to_u8(v), channel_to_u8(v), "{v:e}");
             }
         }
     }
