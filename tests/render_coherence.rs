@@ -406,14 +406,11 @@ fn too_few_column_hints_is_an_error() {
     );
 }
 
-/// The depth AOV traces its rows in packets of neighbouring pixels
-/// (`Tracer::depth_camera_packet`): each depth is the pixel's own
-/// `depth_camera`, bit for bit, and the work counted is the same, for every
-/// camera, mode and water level, with and without an analytic object in
-/// the scene, and on rows whose length is not a multiple of the packet
-/// (their last pixels are traced one by one).
-#[test]
-fn depth_packets_match_each_pixels_own_depth() {
+/// Every case the packet tests run: each camera, mode and water level, with
+/// and without an analytic object in the scene, on rows whose length is and
+/// is not a multiple of the packet (their last pixels are traced one by
+/// one). `check(case, scene, fields, width)` renders one.
+fn for_each_packet_case(mut check: impl FnMut(&str, &TestScene, &[HeightField<'_>], u32)) {
     let data = Fields::new(9);
     for (name, camera, _) in cameras(&data) {
         for with_sphere in [false, true] {
@@ -429,32 +426,10 @@ fn depth_packets_match_each_pixels_own_depth() {
                 for water in [0.0, 0.12] {
                     let fields = [data.field(water, mode)];
                     for width in [W, W + 3] {
-                        let cam = Camera::new(&s.camera, width, H).unwrap();
-                        let tracer = Tracer::new(&s, &fields).unwrap();
-                        let mut line = vec![0f32; width as usize];
-                        let mut one_by_one = Stats::default();
-                        let packets = render_depth(
-                            &s,
-                            &fields,
-                            &RenderSettings::new(width, H),
-                            &mut line,
-                            &mut |y, row: &[f32]| {
-                                for (x, depth) in row.iter().enumerate() {
-                                    let ray = cam.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                                    let want = tracer.depth_camera(&ray, None, &mut one_by_one);
-                                    assert_eq!(
-                                        depth.to_bits(),
-                                        want.to_bits(),
-                                        "{name} {mode:?} water {water} sphere {with_sphere} \
-                                         {width} wide: pixel ({x}, {y})"
-                                    );
-                                }
-                                ControlFlow::Continue(())
-                            },
-                        )
-                        .unwrap();
-                        let work = |s: &Stats| (s.primary_rays, s.hits, s.cells, s.blocks);
-                        assert_eq!(work(&packets), work(&one_by_one), "{name} {mode:?}");
+                        let case = format!(
+                            "{name} {mode:?} water {water} sphere {with_sphere} {width} wide"
+                        );
+                        check(&case, &s, &fields, width);
                     }
                 }
             }
@@ -462,56 +437,68 @@ fn depth_packets_match_each_pixels_own_depth() {
     }
 }
 
+/// The depth AOV traces its rows in packets of neighbouring pixels
+/// (`Tracer::depth_camera_packet`): each depth is the pixel's own
+/// `depth_camera`, bit for bit, and the work counted is the same, in every
+/// case of [`for_each_packet_case`].
+#[test]
+fn depth_packets_match_each_pixels_own_depth() {
+    for_each_packet_case(|case, s, fields, width| {
+        let cam = Camera::new(&s.camera, width, H).unwrap();
+        let tracer = Tracer::new(s, fields).unwrap();
+        let mut line = vec![0f32; width as usize];
+        let mut one_by_one = Stats::default();
+        let packets = render_depth(
+            s,
+            fields,
+            &RenderSettings::new(width, H),
+            &mut line,
+            &mut |y, row: &[f32]| {
+                for (x, depth) in row.iter().enumerate() {
+                    let ray = cam.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                    let want = tracer.depth_camera(&ray, None, &mut one_by_one);
+                    assert_eq!(depth.to_bits(), want.to_bits(), "{case}: pixel ({x}, {y})");
+                }
+                ControlFlow::Continue(())
+            },
+        )
+        .unwrap();
+        let work = |s: &Stats| (s.primary_rays, s.hits, s.cells, s.blocks);
+        assert_eq!(work(&packets), work(&one_by_one), "{case}");
+    });
+}
+
 /// The colour render traces rows in packets of neighbouring pixel centres
 /// (desktop targets, no AA, no hints): every pixel bit for bit
-/// `Tracer::trace_camera` of its own camera ray, and the same counters.
+/// `Tracer::trace_camera` of its own camera ray, and the same counters, in
+/// every case of [`for_each_packet_case`].
 #[test]
 fn colour_packets_match_each_pixels_own_colour() {
-    let data = Fields::new(9);
-    for (name, camera, _) in cameras(&data) {
-        for with_sphere in [false, true] {
-            let mut s = test_scene(camera);
-            if with_sphere {
-                let mut ball = object(unit_sphere(), Vec3::ONE, Finish::default());
-                ball.transform = Transform::scale(DVec3::splat(0.08))
-                    .unwrap()
-                    .then(&Transform::translate(DVec3::new(0.5, 0.2, 0.5)).unwrap());
-                s.objects.push(ball).unwrap();
-            }
-            for mode in MODES {
-                for water in [0.0, 0.12] {
-                    let fields = [data.field(water, mode)];
-                    for width in [W, W + 3] {
-                        let cam = Camera::new(&s.camera, width, H).unwrap();
-                        let tracer = Tracer::new(&s, &fields).unwrap();
-                        let mut line = vec![LinearRgb(Vec3::ZERO); width as usize];
-                        let mut one_by_one = Stats::default();
-                        let packets = render(
-                            &s,
-                            &fields,
-                            &RenderSettings::new(width, H),
-                            &mut line,
-                            &mut |y, row: &[LinearRgb]| {
-                                for (x, colour) in row.iter().enumerate() {
-                                    let ray = cam.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                                    let want = tracer.trace_camera(&ray, None, &mut one_by_one);
-                                    assert_eq!(
-                                        colour.0.to_array().map(f32::to_bits),
-                                        want.to_array().map(f32::to_bits),
-                                        "{name} {mode:?} water {water} sphere {with_sphere} \
-                                         {width} wide: pixel ({x}, {y})"
-                                    );
-                                }
-                                ControlFlow::Continue(())
-                            },
-                        )
-                        .unwrap();
-                        let work =
-                            |s: &Stats| (s.primary_rays, s.shadow_rays, s.hits, s.cells, s.blocks);
-                        assert_eq!(work(&packets), work(&one_by_one), "{name} {mode:?}");
-                    }
+    for_each_packet_case(|case, s, fields, width| {
+        let cam = Camera::new(&s.camera, width, H).unwrap();
+        let tracer = Tracer::new(s, fields).unwrap();
+        let mut line = vec![LinearRgb(Vec3::ZERO); width as usize];
+        let mut one_by_one = Stats::default();
+        let packets = render(
+            s,
+            fields,
+            &RenderSettings::new(width, H),
+            &mut line,
+            &mut |y, row: &[LinearRgb]| {
+                for (x, colour) in row.iter().enumerate() {
+                    let ray = cam.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                    let want = tracer.trace_camera(&ray, None, &mut one_by_one);
+                    assert_eq!(
+                        colour.0.to_array().map(f32::to_bits),
+                        want.to_array().map(f32::to_bits),
+                        "{case}: pixel ({x}, {y})"
+                    );
                 }
-            }
-        }
-    }
+                ControlFlow::Continue(())
+            },
+        )
+        .unwrap();
+        let work = |s: &Stats| (s.primary_rays, s.shadow_rays, s.hits, s.cells, s.blocks);
+        assert_eq!(work(&packets), work(&one_by_one), "{case}");
+    });
 }
