@@ -120,17 +120,24 @@ fn adversarial_ray(rng: &mut Rng, cu: f64, cv: f64) -> ([f64; 3], [f64; 3], f64,
     (o, d, t_min, t_max)
 }
 
+/// A random field's size (2 to `max_side` samples a side) and samples:
+/// terrain or independent random heights, even odds.
+fn random_samples(rng: &mut Rng, max_side: u32) -> (u32, u32, Vec<u8>) {
+    let w = rng.int(2, max_side);
+    let d = rng.int(2, max_side);
+    let data = if rng.chance(0.5) {
+        terrain(rng, w, d)
+    } else {
+        random_heights(rng, w, d)
+    };
+    (w, d, data)
+}
+
 fn run_modes<S: Real>(seed: u64, fields: u32, rays: u32, max_side: u32) -> (u64, u64) {
     let mut rng = Rng::new(seed);
     let (mut queries, mut hits) = (0u64, 0u64);
     for _ in 0..fields {
-        let w = rng.int(2, max_side);
-        let d = rng.int(2, max_side);
-        let data = if rng.chance(0.5) {
-            terrain(&mut rng, w, d)
-        } else {
-            random_heights(&mut rng, w, d)
-        };
+        let (w, d, data) = random_samples(&mut rng, max_side);
         let convention = if rng.chance(0.5) {
             HeightConvention::Indexed
         } else {
@@ -537,13 +544,7 @@ fn run_packets(seed: u64, fields: u32, packets: u32, max_side: u32) -> (u64, u64
     let mut rng = Rng::new(seed);
     let (mut queries, mut hits) = (0u64, 0u64);
     for _ in 0..fields {
-        let w = rng.int(2, max_side);
-        let d = rng.int(2, max_side);
-        let data = if rng.chance(0.5) {
-            terrain(&mut rng, w, d)
-        } else {
-            random_heights(&mut rng, w, d)
-        };
+        let (w, d, data) = random_samples(&mut rng, max_side);
         let water = if rng.chance(0.3) {
             rng.range(0.0, 0.8) as f32
         } else {
