@@ -392,13 +392,26 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 }
             }
         }
+        self.nearest_analytic(&cam.ray, best_t, best, counters)
+    }
+
+    /// The nearest hit along `ray` of the objects that are not height
+    /// fields, if nearer than `best_t`; else `best` (the height fields' hit,
+    /// at `best_t`).
+    fn nearest_analytic(
+        &self,
+        ray: &Ray,
+        mut best_t: f32,
+        mut best: Option<(usize, LocalHit)>,
+        counters: &mut Counters,
+    ) -> Option<(usize, LocalHit)> {
         for (i, obj) in self.objects.iter().enumerate() {
             if matches!(obj.placed.primitive(), Primitive::HeightField { .. }) {
                 continue;
             }
-            if let Some(h) =
-                obj.placed
-                    .intersect_local(&cam.ray, 0.0, best_t, self.fields, counters)
+            if let Some(h) = obj
+                .placed
+                .intersect_local(ray, 0.0, best_t, self.fields, counters)
             {
                 best_t = h.t();
                 best = Some((i, h));
@@ -587,23 +600,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 }
             }
         }
-        #[cfg(feature = "primitives")]
-        for (l, best) in best.iter_mut().enumerate() {
-            let ray = cams.ray.ray(l);
-            for (i, obj) in self.objects.iter().enumerate() {
-                if matches!(obj.placed.primitive(), Primitive::HeightField { .. }) {
-                    continue;
-                }
-                if let Some(h) =
-                    obj.placed
-                        .intersect_local(&ray, 0.0, best_t[l], self.fields, counters)
-                {
-                    best_t[l] = h.t();
-                    *best = Some((i, h));
-                }
-            }
-        }
-        best
+        core::array::from_fn(|l| {
+            self.nearest_analytic(&cams.ray.ray(l), best_t[l], best[l], counters)
+        })
     }
 
     fn trace_from(&self, ray: &Ray, camera: Primary<'_, '_>, stats: &mut Stats) -> Vec3 {
