@@ -52,7 +52,7 @@ use core::ops::{ControlFlow, Range};
 
 use glam::Vec3;
 
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraPacket, CameraRay};
 use crate::heightfield::{ColumnHint, HeightField};
 use crate::packet::{LANES, PACKETS};
 use crate::pixel::Pixel;
@@ -206,6 +206,33 @@ fn drive_rows<T: Copy>(
     stats
 }
 
+/// Runs the rows with their pixel centres in packets: [`LANES`] at a time
+/// (`packet(cams, x0, y, out, stats)` fills `out`, the pixels from `x0`),
+/// the row's last pixels one by one (`one(cam, x, y, stats)`).
+fn drive_packets<T: Copy>(
+    settings: &RenderSettings,
+    line: &mut [T],
+    sink: &mut impl FnMut(u32, &[T]) -> ControlFlow<()>,
+    camera: &Camera,
+    mut packet: impl FnMut(&CameraPacket, u32, u32, &mut [T], &mut Stats),
+    mut one: impl FnMut(&CameraRay, u32, u32, &mut Stats) -> T,
+) -> Stats {
+    drive_rows(settings, line, sink, |y, line, stats| {
+        let cy = y as f32 + 0.5;
+        let first = line.len() / LANES * LANES;
+        let mut packets = line.chunks_exact_mut(LANES);
+        for (k, out) in (&mut packets).enumerate() {
+            let x0 = k * LANES;
+            let xs = core::array::from_fn(|l| (x0 + l) as f32 + 0.5);
+            packet(&camera.camera_packet(&xs, cy), x0 as u32, y, out, stats);
+        }
+        for (k, slot) in packets.into_remainder().iter_mut().enumerate() {
+            let x = (first + k) as u32;
+            *slot = one(&camera.camera_ray(x as f32 + 0.5, cy), x, y, stats);
+        }
+    })
+}
+
 /// The column hints of sample `(i, j)` of pixel column `x`: one per field.
 fn sample_hints<'h>(
     hints: &'h mut Option<&mut [ColumnHint]>,
@@ -291,24 +318,19 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     if PACKETS && n == 1 && hints.is_none() {
         // Packets of neighbouring pixel centres of the row, the same colours
         // (`Tracer::trace_camera_packet`); the row's last pixels one by one.
-        return Ok(drive_rows(settings, line, sink, |y, line, stats| {
-            let cy = y as f32 + 0.5;
-            let first = line.len() / LANES * LANES;
-            let mut packets = line.chunks_exact_mut(LANES);
-            for (k, out) in (&mut packets).enumerate() {
-                let x0 = k * LANES;
-                let xs = core::array::from_fn(|l| (x0 + l) as f32 + 0.5);
-                let colours = tracer.trace_camera_packet(&camera.camera_packet(&xs, cy), stats);
+        return Ok(drive_packets(
+            settings,
+            line,
+            sink,
+            &camera,
+            |cams, x0, y, out, stats| {
+                let colours = tracer.trace_camera_packet(cams, stats);
                 for (l, (slot, colour)) in out.iter_mut().zip(colours).enumerate() {
-                    *slot = P::from_linear(colour, (x0 + l) as u32, y);
+                    *slot = P::from_linear(colour, x0 + l as u32, y);
                 }
-            }
-            for (k, slot) in packets.into_remainder().iter_mut().enumerate() {
-                let x = (first + k) as u32;
-                let cam = camera.camera_ray(x as f32 + 0.5, cy);
-                *slot = P::from_linear(tracer.trace_camera(&cam, None, stats), x, y);
-            }
-        }));
+            },
+            |cam, x, y, stats| P::from_linear(tracer.trace_camera(cam, None, stats), x, y),
+        ));
     }
     let step = 1.0 / n as f32;
     let norm = 1.0 / (n * n) as f32;
@@ -376,20 +398,14 @@ fn render_depth_with<const O: usize, const L: usize, const G: usize>(
     if PACKETS && hints.is_none() {
         // Packets of neighbouring pixels of the row, the same depths
         // (`Tracer::depth_camera_packet`); the row's last pixels one by one.
-        return Ok(drive_rows(settings, line, sink, |y, line, stats| {
-            let cy = y as f32 + 0.5;
-            let ray = |x: usize| camera.camera_ray(x as f32 + 0.5, cy);
-            let first = line.len() / LANES * LANES;
-            let mut packets = line.chunks_exact_mut(LANES);
-            for (k, out) in (&mut packets).enumerate() {
-                let x = core::array::from_fn(|l| (k * LANES + l) as f32 + 0.5);
-                let cams = camera.camera_packet(&x, cy);
-                out.copy_from_slice(&tracer.depth_camera_packet(&cams, stats));
-            }
-            for (k, slot) in packets.into_remainder().iter_mut().enumerate() {
-                *slot = tracer.depth_camera(&ray(first + k), None, stats);
-            }
-        }));
+        return Ok(drive_packets(
+            settings,
+            line,
+            sink,
+            &camera,
+            |cams, _, _, out, stats| out.copy_from_slice(&tracer.depth_camera_packet(cams, stats)),
+            |cam, _, _, stats| tracer.depth_camera(cam, None, stats),
+        ));
     }
     Ok(drive(settings, line, sink, |x, y, stats| {
         let h = sample_hints(&mut hints, fields.len(), settings, x, 0, 0);
