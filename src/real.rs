@@ -536,6 +536,23 @@ mod fixed_point {
         }
     }
 
+    /// Q16 test operands: `edges`, then `random` bit patterns of every
+    /// magnitude (each shifted right by 0..31 bits).
+    #[cfg(test)]
+    fn edges_and_random<const N: usize>(
+        edges: &[i32],
+        random: usize,
+        next: &mut impl FnMut() -> u32,
+    ) -> heapless::Vec<i32, N> {
+        let mut values = heapless::Vec::<i32, N>::new();
+        values.extend_from_slice(edges).unwrap();
+        for _ in 0..random {
+            let v = next();
+            values.push((v as i32) >> (next() % 32)).unwrap();
+        }
+        values
+    }
+
     #[cfg(test)]
     #[test]
     fn q16_reciprocal_quotient_is_i16f16_saturating_div() {
@@ -552,12 +569,7 @@ mod fixed_point {
             0x8000,
             3,
         ];
-        let mut values = heapless::Vec::<i32, 3100>::new();
-        values.extend_from_slice(&edges).unwrap();
-        for _ in 0..3000 {
-            let v = next();
-            values.push((v as i32) >> (next() % 32)).unwrap();
-        }
+        let values = edges_and_random::<3100>(&edges, 3000, &mut next);
         let mut a_values = values.clone();
         a_values.push(0).unwrap();
         for &a in &a_values {
@@ -705,13 +717,7 @@ mod fixed_point {
             0x7fff,
             -0x8000,
         ];
-        let mut values = heapless::Vec::<i32, 2100>::new();
-        values.extend_from_slice(&edges).unwrap();
-        for _ in 0..2000 {
-            let v = next();
-            // All magnitudes: shift by 0..31 bits.
-            values.push((v as i32) >> (next() % 32)).unwrap();
-        }
+        let values = edges_and_random::<2100>(&edges, 2000, &mut next);
         for &a in &values {
             for &b in values.iter().step_by(7) {
                 let (a, b) = (I16F16::from_bits(a), I16F16::from_bits(b));
