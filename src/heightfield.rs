@@ -599,8 +599,75 @@ impl<'a> HeightField<'a> {
                 self.intersect_counted(&rays.ray(l), t_min, t_max, counters)
             });
         }
-        let hits = self.grid_hits_packet(rays, t_min, t_max, counters);
+        let hits = self.grid_hits_packet(rays, t_min, t_max, None, counters);
         core::array::from_fn(|l| Some(self.finish_hit(&rays.ray(l), hits[l].as_ref()?)))
+    }
+
+    /// [`intersect_coherent`](Self::intersect_coherent) for each of `rays`
+    /// (neighbouring pixels of a row), lane `l` with the hint `hints[l]`:
+    /// the same hits as [`intersect_packet`](Self::intersect_packet), and
+    /// the hints left as the rays one by one would leave them.
+    pub(crate) fn intersect_coherent_packet(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        hints: [&mut ColumnHint; LANES],
+        counters: &mut Counters,
+    ) -> [Option<FieldHit>; LANES] {
+        // The other numeric paths, ray by ray.
+        if !matches!(self.numeric, Numeric::F32) {
+            let mut lanes = hints.into_iter().enumerate();
+            return core::array::from_fn(|_| {
+                let (l, hint) = lanes.next()?;
+                self.intersect_coherent(&rays.ray(l), t_min, t_max, hint, counters)
+            });
+        }
+        let hits = self.grid_hits_coherent(rays, t_min, t_max, hints, counters);
+        core::array::from_fn(|l| Some(self.finish_hit(&rays.ray(l), hits[l].as_ref()?)))
+    }
+
+    /// [`intersect_coherent_packet`](Self::intersect_coherent_packet)'s `t`s.
+    pub(crate) fn intersect_t_coherent_packet(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        hints: [&mut ColumnHint; LANES],
+        counters: &mut Counters,
+    ) -> [Option<f32>; LANES] {
+        if !matches!(self.numeric, Numeric::F32) {
+            return self
+                .intersect_coherent_packet(rays, t_min, t_max, hints, counters)
+                .map(|h| Some(h?.t));
+        }
+        self.grid_hits_coherent(rays, t_min, t_max, hints, counters)
+            .map(|h| Some(h?.t))
+    }
+
+    /// The grid hits of `rays` walked coherently in `f32`, each lane with
+    /// its hint (a hint left by another field counts as none).
+    fn grid_hits_coherent(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        hints: [&mut ColumnHint; LANES],
+        counters: &mut Counters,
+    ) -> [Option<GridHit<f32>>; LANES] {
+        let key = self.hint_key();
+        let mut columns = [traversal::ColumnState::new(); LANES];
+        for (column, hint) in columns.iter_mut().zip(&hints) {
+            if hint.field == key {
+                *column = hint.state;
+            }
+        }
+        let hits = self.grid_hits_packet(rays, t_min, t_max, Some(&mut columns), counters);
+        for (column, hint) in columns.into_iter().zip(hints) {
+            hint.state = column;
+            hint.field = key;
+        }
+        hits
     }
 
     /// [`intersect_t`](Self::intersect_t) for each of `rays`, as
@@ -617,7 +684,7 @@ impl<'a> HeightField<'a> {
                 self.intersect_t(&rays.ray(l), t_min, t_max, counters)
             });
         }
-        self.grid_hits_packet(rays, t_min, t_max, counters)
+        self.grid_hits_packet(rays, t_min, t_max, None, counters)
             .map(|h| Some(h?.t))
     }
 
@@ -628,10 +695,11 @@ impl<'a> HeightField<'a> {
         rays: &RayPacket,
         t_min: f32,
         t_max: f32,
+        columns: Option<&mut [traversal::ColumnState<f32>; LANES]>,
         counters: &mut Counters,
     ) -> [Option<GridHit<f32>>; LANES] {
         let grid = packet::map_f32(&self.world_to_grid, rays);
-        packet::nearest_packet(self, &grid, t_min, t_max, counters)
+        packet::nearest_packet(self, &grid, t_min, t_max, columns, counters)
     }
 
     /// The nearest hit of a world ray walked in the numeric type `S`

@@ -45,7 +45,10 @@ use crate::math::sqrtf;
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::transform::GridTransform;
-use crate::traversal::{first_cell, nearest, Axis, Counters, GridHit, GridRay, Walk, WalkGrid};
+use crate::traversal::{
+    first_cell, nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, Walk,
+    WalkGrid,
+};
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
 /// take 1,922 instructions per bench512 primary ray, four 1,950.
@@ -158,12 +161,15 @@ fn clip(o: &Lanes, inv: &Lanes, lo: &Lanes, hi: &Lanes, t: &mut (Lanes, Lanes)) 
 }
 
 /// [`nearest`] (not `any`) for each of `rays`, over the same `[t_min,
-/// t_max]`: the same hits, bit for bit (see the module docs).
+/// t_max]`: the same hits, bit for bit (see the module docs). With
+/// `columns`, lane `l` is a primary ray of an image column whose state is
+/// `columns[l]`, walked as [`nearest_in_column`] walks it.
 pub(crate) fn nearest_packet<F: WalkGrid>(
     field: &F,
     rays: &RayPacket,
     t_min: f32,
     t_max: f32,
+    mut columns: Option<&mut [ColumnState<f32>; LANES]>,
     counters: &mut Counters,
 ) -> [Option<GridHit<f32>>; LANES] {
     let (o, d) = (&rays.origin, &rays.direction);
@@ -185,7 +191,13 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     let mut hits = [None; LANES];
     for l in 0..LANES {
         if !covered[l] || !walks_all {
-            hits[l] = nearest(field, &rays.grid_ray(l), t_min, t_max, false, counters);
+            let ray = rays.grid_ray(l);
+            hits[l] = match columns.as_deref_mut() {
+                Some(columns) => {
+                    nearest_in_column(field, &ray, t_min, t_max, &mut columns[l], counters)
+                }
+                None => nearest(field, &ray, t_min, t_max, false, counters),
+            };
         }
     }
     if !walks_all || !covered.contains(&true) {
@@ -216,7 +228,17 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     let j: [i32; LANES] = lanes(|l| first_cell(entry(2, last_v, l), step(2, l), cells_v));
 
     for l in 0..LANES {
-        if !covered[l] || !(t_near[l] <= t_far[l]) {
+        if !covered[l] {
+            continue;
+        }
+        // As `walk` does: the column's state is cleared here, and filled in
+        // only by a walk that gets under way.
+        let column = columns.as_deref_mut().map(|columns| {
+            let previous = columns[l];
+            columns[l].clear();
+            (previous, &mut columns[l])
+        });
+        if !(t_near[l] <= t_far[l]) {
             continue;
         }
         let axis = |k: usize| Axis {
@@ -225,7 +247,7 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
             inv: inv[k][l],
         };
         let GridRay { origin, direction } = rays.grid_ray(l);
-        hits[l] = Walk::new(
+        let mut walk = Walk::new(
             field,
             origin,
             direction,
@@ -234,8 +256,13 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
             t_far[l],
             water,
             false,
-        )
-        .walk_from_entry(field, i[l], j[l], t_near[l], counters);
+        );
+        hits[l] = match column {
+            Some((previous, column)) => walk.walk_in_column(
+                field, &previous, column, t_min, t_max, i[l], j[l], t_near[l], counters,
+            ),
+            None => walk.walk_from_entry(field, i[l], j[l], t_near[l], counters),
+        };
     }
     hits
 }

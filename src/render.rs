@@ -24,8 +24,9 @@
 //!
 //! On desktop targets both trace each row's primary rays in packets of
 //! [`LANES`] neighbouring pixel centres ([`crate::packet`]; colour renders
-//! without AA), with the same pixels and counters; rays that column
-//! coherence may resume, AA samples and firmware builds go one by one.
+//! without AA), with the same pixels and counters, coherent or not (each
+//! lane with its column's hint); AA samples, the coherent depth AOV with
+//! `aa > 1` and firmware builds go one by one.
 //!
 //! Height fields are passed separately (`fields[i]` for an object's
 //! `field_index` `i`); each carries its placement, water level and palette,
@@ -207,15 +208,20 @@ fn drive_rows<T: Copy>(
 }
 
 /// Runs the rows with their pixel centres in packets: [`LANES`] at a time
-/// (`packet(cams, x0, y, out, stats)` fills `out`, the pixels from `x0`),
-/// the row's last pixels one by one (`one(cam, x, y, stats)`).
+/// (`packet(cams, hints, x0, y, out, stats)` fills `out`, the pixels from
+/// `x0`), the row's last pixels one by one (`one(cam, hints, x, y,
+/// stats)`); `hints` are the columns' hints when the render is coherent
+/// (`fields` per column).
+#[allow(clippy::too_many_arguments)]
 fn drive_packets<T: Copy>(
     settings: &RenderSettings,
     line: &mut [T],
     sink: &mut impl FnMut(u32, &[T]) -> ControlFlow<()>,
     camera: &Camera,
-    mut packet: impl FnMut(&CameraPacket, u32, u32, &mut [T], &mut Stats),
-    mut one: impl FnMut(&CameraRay, u32, u32, &mut Stats) -> T,
+    fields: usize,
+    hints: &mut Option<&mut [ColumnHint]>,
+    mut packet: impl FnMut(&CameraPacket, Option<&mut [ColumnHint]>, u32, u32, &mut [T], &mut Stats),
+    mut one: impl FnMut(&CameraRay, Option<&mut [ColumnHint]>, u32, u32, &mut Stats) -> T,
 ) -> Stats {
     drive_rows(settings, line, sink, |y, line, stats| {
         let cy = y as f32 + 0.5;
@@ -224,11 +230,15 @@ fn drive_packets<T: Copy>(
         for (k, out) in (&mut packets).enumerate() {
             let x0 = k * LANES;
             let xs = core::array::from_fn(|l| (x0 + l) as f32 + 0.5);
-            packet(&camera.camera_packet(&xs, cy), x0 as u32, y, out, stats);
+            let h = hints
+                .as_deref_mut()
+                .map(|h| &mut h[x0 * fields..(x0 + LANES) * fields]);
+            packet(&camera.camera_packet(&xs, cy), h, x0 as u32, y, out, stats);
         }
         for (k, slot) in packets.into_remainder().iter_mut().enumerate() {
             let x = (first + k) as u32;
-            *slot = one(&camera.camera_ray(x as f32 + 0.5, cy), x, y, stats);
+            let h = sample_hints(hints, fields, settings, x, 0, 0);
+            *slot = one(&camera.camera_ray(x as f32 + 0.5, cy), h, x, y, stats);
         }
     })
 }
@@ -315,7 +325,7 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     let tracer = Tracer::new(scene, fields)?;
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     let n = settings.aa;
-    if PACKETS && n == 1 && hints.is_none() {
+    if PACKETS && n == 1 {
         // Packets of neighbouring pixel centres of the row, the same colours
         // (`Tracer::trace_camera_packet`); the row's last pixels one by one.
         return Ok(drive_packets(
@@ -323,13 +333,15 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
             line,
             sink,
             &camera,
-            |cams, x0, y, out, stats| {
-                let colours = tracer.trace_camera_packet(cams, stats);
+            fields.len(),
+            &mut hints,
+            |cams, h, x0, y, out, stats| {
+                let colours = tracer.trace_camera_packet(cams, h, stats);
                 for (l, (slot, colour)) in out.iter_mut().zip(colours).enumerate() {
                     *slot = P::from_linear(colour, x0 + l as u32, y);
                 }
             },
-            |cam, x, y, stats| P::from_linear(tracer.trace_camera(cam, None, stats), x, y),
+            |cam, h, x, y, stats| P::from_linear(tracer.trace_camera(cam, h, stats), x, y),
         ));
     }
     let step = 1.0 / n as f32;
@@ -395,7 +407,10 @@ fn render_depth_with<const O: usize, const L: usize, const G: usize>(
     let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
     let tracer = Tracer::new(scene, fields)?;
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
-    if PACKETS && hints.is_none() {
+    // (Hints are kept `aa²` to a column, of which the depth AOV uses the
+    // first: packets take `fields` to a column, so with `aa > 1` the
+    // coherent depth AOV goes pixel by pixel.)
+    if PACKETS && (hints.is_none() || settings.aa == 1) {
         // Packets of neighbouring pixels of the row, the same depths
         // (`Tracer::depth_camera_packet`); the row's last pixels one by one.
         return Ok(drive_packets(
@@ -403,8 +418,12 @@ fn render_depth_with<const O: usize, const L: usize, const G: usize>(
             line,
             sink,
             &camera,
-            |cams, _, _, out, stats| out.copy_from_slice(&tracer.depth_camera_packet(cams, stats)),
-            |cam, _, _, stats| tracer.depth_camera(cam, None, stats),
+            fields.len(),
+            &mut hints,
+            |cams, h, _, _, out, stats| {
+                out.copy_from_slice(&tracer.depth_camera_packet(cams, h, stats))
+            },
+            |cam, h, _, _, stats| tracer.depth_camera(cam, h, stats),
         ));
     }
     Ok(drive(settings, line, sink, |x, y, stats| {

@@ -472,11 +472,18 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         best_t
     }
 
-    /// [`depth_camera`](Self::depth_camera) (without hints) of each lane
-    /// of `cams`, neighbouring camera rays whose height-field walks are set
-    /// up together ([`HeightField::intersect_t_packet`]): the same depths,
-    /// bit for bit. Counts `LANES` primary rays.
-    pub fn depth_camera_packet(&self, cams: &CameraPacket, stats: &mut Stats) -> [f32; LANES] {
+    /// [`depth_camera`](Self::depth_camera) of each lane of `cams`,
+    /// neighbouring camera rays whose height-field walks are set up together
+    /// ([`HeightField::intersect_t_packet`]): the same depths, bit for bit.
+    /// With `hints` (one per field for each lane, lane after lane) the walks
+    /// are coherent, as `depth_camera`'s with its hints. Counts `LANES`
+    /// primary rays.
+    pub fn depth_camera_packet(
+        &self,
+        cams: &CameraPacket,
+        mut hints: Option<&mut [ColumnHint]>,
+        stats: &mut Stats,
+    ) -> [f32; LANES] {
         let mut counters = Counters::default();
         let mut best_t = [f32::INFINITY; LANES];
         let mut hit = [false; LANES];
@@ -486,8 +493,18 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                     let Some(field) = self.fields.get(field_index) else {
                         continue;
                     };
-                    let walked =
-                        field.intersect_t_packet(&cams.walk, 0.0, f32::INFINITY, &mut counters);
+                    let walked = match lane_hints(&mut hints, self.fields.len(), field_index) {
+                        Some(lanes) => field.intersect_t_coherent_packet(
+                            &cams.walk,
+                            0.0,
+                            f32::INFINITY,
+                            lanes,
+                            &mut counters,
+                        ),
+                        None => {
+                            field.intersect_t_packet(&cams.walk, 0.0, f32::INFINITY, &mut counters)
+                        }
+                    };
                     for l in 0..LANES {
                         if let Some(t) = walked[l] {
                             best_t[l] = best_t[l].min(t * cams.length[l]);
@@ -554,16 +571,22 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     }
 
     /// [`trace_camera`](Self::trace_camera) of each lane of `cams`
-    /// (neighbouring pixels of a row, no hints): their height fields walked
-    /// as one packet ([`HeightField::intersect_packet`]), the same hits, so
+    /// (neighbouring pixels of a row; `hints` as for
+    /// [`depth_camera_packet`](Self::depth_camera_packet)): their height
+    /// fields walked as one packet ([`HeightField::intersect_packet`]), the same hits, so
     /// the same colours and counters.
-    pub fn trace_camera_packet(&self, cams: &CameraPacket, stats: &mut Stats) -> [Vec3; LANES] {
+    pub fn trace_camera_packet(
+        &self,
+        cams: &CameraPacket,
+        hints: Option<&mut [ColumnHint]>,
+        stats: &mut Stats,
+    ) -> [Vec3; LANES] {
         if self.max_trace_level == 0 {
             // No segment is traced, so nothing is walked (or counted).
             return core::array::from_fn(|l| self.trace_camera(&cams.camera_ray(l), None, stats));
         }
         let mut counters = Counters::default();
-        let found = self.nearest_camera_packet(cams, &mut counters);
+        let found = self.nearest_camera_packet(cams, hints, &mut counters);
         stats.add_work(&counters);
         let mut colours = [Vec3::ZERO; LANES];
         for (l, (colour, found)) in colours.iter_mut().zip(found).enumerate() {
@@ -573,11 +596,14 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     }
 
     /// [`nearest_camera_local`](Self::nearest_camera_local) of each lane of
-    /// `cams`, without hints: the height fields walked as one packet.
+    /// `cams` (`hints` as for
+    /// [`depth_camera_packet`](Self::depth_camera_packet)): the height fields
+    /// walked as one packet.
     #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
     fn nearest_camera_packet(
         &self,
         cams: &CameraPacket,
+        mut hints: Option<&mut [ColumnHint]>,
         counters: &mut Counters,
     ) -> [Option<(usize, LocalHit)>; LANES] {
         let mut best_t = [f32::INFINITY; LANES];
@@ -589,7 +615,12 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let Some(field) = self.fields.get(field_index) else {
                 continue;
             };
-            let hits = field.intersect_packet(&cams.walk, 0.0, f32::INFINITY, counters);
+            let hits = match lane_hints(&mut hints, self.fields.len(), field_index) {
+                Some(lanes) => {
+                    field.intersect_coherent_packet(&cams.walk, 0.0, f32::INFINITY, lanes, counters)
+                }
+                None => field.intersect_packet(&cams.walk, 0.0, f32::INFINITY, counters),
+            };
             for (l, hit) in hits.into_iter().enumerate() {
                 if let Some(mut h) = hit {
                     h.t *= cams.length[l];
@@ -988,4 +1019,20 @@ fn starts_on_side(field: &HeightField<'_>, origin: Vec3, dir: Vec3, side: f32) -
     } else {
         gap < 0.0
     }
+}
+
+/// The hints of field `field_index` for each lane of a packet, from the
+/// packet's hints (`fields` per lane, lane by lane), if there are hints.
+fn lane_hints<'h>(
+    hints: &'h mut Option<&mut [ColumnHint]>,
+    fields: usize,
+    field_index: usize,
+) -> Option<[&'h mut ColumnHint; LANES]> {
+    let mut lanes = hints.as_deref_mut()?.chunks_exact_mut(fields.max(1));
+    let found: [Option<&mut ColumnHint>; LANES] =
+        core::array::from_fn(|_| lanes.next().and_then(|lane| lane.get_mut(field_index)));
+    if found.iter().any(Option::is_none) {
+        return None;
+    }
+    Some(found.map(|hint| hint.expect("every lane has its hint")))
 }

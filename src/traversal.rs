@@ -1339,43 +1339,12 @@ fn walk<S: Real, F: WalkGrid>(
     let j = first_cell(entry_v, av.step, cells_v);
 
     let mut walk = Walk::new(field, *o, *d, au, av, t_far, water, any);
-    let mut start = Resume {
-        i,
-        j,
-        t_a: t_near,
-        entry: Place::Interior,
-    };
-    let mut stop = None;
-    // Column coherence: only without a water level that cuts the surface.
-    let coherent = column.is_some() && water_units <= min_units;
-    let mut above = false;
-    if let (true, Some(previous)) = (coherent, &previous) {
-        match previous.resume_for(o, d, t_min, t_max, t_near) {
-            // Resumed only before the walk's end, which it then reaches
-            // through cells whose samples are all above (else it starts
-            // from the beginning, and the same holds of its first sample).
-            Some(r) if r.t_a < t_far => {
-                start = r;
-                above = true;
-                counters.resumed += 1;
-            }
-            Some(_) => above = true,
-            None => above = starts_above(field, &walk, i, j, t_near),
-        }
+    match (previous, column) {
+        (Some(previous), Some(column)) => walk.walk_in_column(
+            field, &previous, column, t_min, t_max, i, j, t_near, counters,
+        ),
+        _ => walk.walk_from_entry(field, i, j, t_near, counters),
     }
-    let hit = walk.walk_from(field, start, &mut stop, counters);
-    if let (true, Some(col)) = (coherent && above, column) {
-        *col = ColumnState {
-            valid: true,
-            origin: *o,
-            direction: *d,
-            t_min,
-            t_max,
-            t_near,
-            stop,
-        };
-    }
-    hit
 }
 
 /// A bound on the passes of [`Walk::walk_hdda`] with `top` levels, if it
@@ -1443,6 +1412,64 @@ impl<S: Real> Walk<S> {
             entry: Place::Interior,
         };
         self.walk_from(field, start, &mut None, counters)
+    }
+
+    /// [`walk_from_entry`](Self::walk_from_entry) for a primary ray of an
+    /// image column: started where `previous` (the state the column's
+    /// previous ray left, already taken out of `column`) allows, as
+    /// [`nearest_in_column`] explains; what the next ray of the column may
+    /// use is left in `column`. `t_min` and `t_max` are the range the ray
+    /// was clipped from (`t_max` finite), which the next ray must share.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn walk_in_column<F: WalkGrid>(
+        &mut self,
+        field: &F,
+        previous: &ColumnState<S>,
+        column: &mut ColumnState<S>,
+        t_min: S,
+        t_max: S,
+        i: i32,
+        j: i32,
+        t_near: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        let mut start = Resume {
+            i,
+            j,
+            t_a: t_near,
+            entry: Place::Interior,
+        };
+        // Column coherence: only without a water level that cuts the surface.
+        let coherent = field.water_units() <= field.units_range().0;
+        let mut above = false;
+        if coherent {
+            match previous.resume_for(&self.o, &self.d, t_min, t_max, t_near) {
+                // Resumed only before the walk's end, which it then reaches
+                // through cells whose samples are all above (else it starts
+                // from the beginning, and the same holds of its first sample).
+                Some(r) if r.t_a < self.t_far => {
+                    start = r;
+                    above = true;
+                    counters.resumed += 1;
+                }
+                Some(_) => above = true,
+                None => above = starts_above(field, self, i, j, t_near),
+            }
+        }
+        let mut stop = None;
+        let hit = self.walk_from(field, start, &mut stop, counters);
+        if coherent && above {
+            *column = ColumnState {
+                valid: true,
+                origin: self.o,
+                direction: self.d,
+                t_min,
+                t_max,
+                t_near,
+                stop,
+            };
+        }
+        hit
     }
 
     /// The walk from `start` in `field`'s mode.
