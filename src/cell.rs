@@ -80,13 +80,10 @@ fn clamp01<S: Real>(v: S) -> S {
     v.max(S::ZERO).min(S::ONE)
 }
 
-#[inline]
-fn pick<S: Real>(one: bool) -> S {
-    if one {
-        S::ONE
-    } else {
-        S::ZERO
-    }
+/// The height at `f` (in `[0, 1]`) along the edge from `lo` to `hi`.
+#[inline(always)]
+fn along<S: Real>(lo: S, hi: S, f: S) -> S {
+    lo + f * (hi - lo)
 }
 
 /// One cell as the ray sees it: the ray (grid space), the cell's corner
@@ -107,38 +104,45 @@ impl<S: Real> Cell<'_, S> {
     #[cfg_attr(not(feature = "compact"), inline(always))]
     #[cfg_attr(feature = "compact", inline)]
     pub fn point(&self, t: S, place: Place) -> BoundaryPoint<S> {
+        self.point_at(t, self.origin[1] + t * self.dir[1], place)
+    }
+
+    /// [`point`](Self::point) given the ray's height `y = o_y + t·d_y`,
+    /// which the walk has already computed (by that same expression).
+    #[cfg_attr(not(feature = "compact"), inline(always))]
+    #[cfg_attr(feature = "compact", inline)]
+    pub fn point_at(&self, t: S, y: S, place: Place) -> BoundaryPoint<S> {
         let (origin, dir, c) = (self.origin, self.dir, &self.corners);
-        let y = origin[1] + t * dir[1];
         let u = || clamp01(origin[0] + t * dir[0] - self.cu);
         let v = || clamp01(origin[2] + t * dir[2] - self.cv);
+        // One arm per edge and vertex, each naming its corners: no
+        // selection between corner pairs at run time.
+        let (zero, one) = (S::ZERO, S::ONE);
         let (fu, fv, h) = match place {
             Place::Interior => {
                 let (fu, fv) = (u(), v());
                 (fu, fv, c.plane_height(fu, fv))
             }
-            Place::EdgeU(right) => {
+            Place::EdgeU(false) => {
                 let fv = v();
-                let (lo, hi) = if right {
-                    (c.h10, c.h11)
-                } else {
-                    (c.h00, c.h01)
-                };
-                (pick(right), fv, lo + fv * (hi - lo))
+                (zero, fv, along(c.h00, c.h01, fv))
             }
-            Place::EdgeV(top) => {
+            Place::EdgeU(true) => {
+                let fv = v();
+                (one, fv, along(c.h10, c.h11, fv))
+            }
+            Place::EdgeV(false) => {
                 let fu = u();
-                let (lo, hi) = if top { (c.h01, c.h11) } else { (c.h00, c.h10) };
-                (fu, pick(top), lo + fu * (hi - lo))
+                (fu, zero, along(c.h00, c.h10, fu))
             }
-            Place::Vertex(right, top) => {
-                let h = match (right, top) {
-                    (false, false) => c.h00,
-                    (true, false) => c.h10,
-                    (false, true) => c.h01,
-                    (true, true) => c.h11,
-                };
-                (pick(right), pick(top), h)
+            Place::EdgeV(true) => {
+                let fu = u();
+                (fu, one, along(c.h01, c.h11, fu))
             }
+            Place::Vertex(false, false) => (zero, zero, c.h00),
+            Place::Vertex(true, false) => (one, zero, c.h10),
+            Place::Vertex(false, true) => (zero, one, c.h01),
+            Place::Vertex(true, true) => (one, one, c.h11),
         };
         BoundaryPoint {
             t,

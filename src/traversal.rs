@@ -411,14 +411,14 @@ impl<S: Real> Walk<S> {
                 corners: Corners::from_raw(raw, mult),
                 water: self.water,
             };
-            let a = cell.point(t_a, c.entry);
+            let a = cell.point_at(t_a, y_a, c.entry);
             let exit_place = match exit {
                 Exit::U => Place::EdgeU(au.step > 0),
                 Exit::V => Place::EdgeV(av.step > 0),
                 Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
                 Exit::End => Place::Interior,
             };
-            let b = cell.point(t_b, exit_place);
+            let b = cell.point_at(t_b, y_b, exit_place);
             if let Some(hit) = cell.first_crossing(&a, &b, &mut counters.triangle_tests) {
                 *stop = Some(c.resume());
                 return Visit::Hit(GridHit {
