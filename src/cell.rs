@@ -43,10 +43,13 @@ impl<S: Real> Corners<S> {
     /// Height of the plane of the triangle containing local `(fu, fv)`.
     #[inline]
     pub fn plane_height(&self, fu: S, fv: S) -> S {
+        // By value: the two arms then pick values, not addresses into the
+        // cell (which would keep the whole cell in memory).
+        let Corners { h00, h10, h01, h11 } = *self;
         if fu + fv <= S::ONE {
-            self.h00 + fu * (self.h10 - self.h00) + fv * (self.h01 - self.h00)
+            h00 + fu * (h10 - h00) + fv * (h01 - h00)
         } else {
-            self.h11 + (S::ONE - fu) * (self.h01 - self.h11) + (S::ONE - fv) * (self.h10 - self.h11)
+            h11 + (S::ONE - fu) * (h01 - h11) + (S::ONE - fv) * (h10 - h11)
         }
     }
 }
