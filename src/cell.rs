@@ -167,8 +167,10 @@ pub(crate) struct Crossing<S> {
 
 impl<S: Real> Cell<'_, S> {
     /// Finds the first crossing of the ray with the cell's surface between
-    /// `a` and `b`, ignoring surface below the water. `tests` counts the
-    /// triangle pieces examined.
+    /// `a` and `b`, ignoring surface below the water. `wet`: the water can
+    /// hide surface (`false` only if no corner is below the water level,
+    /// as when the level is at or below 0). `tests` counts the triangle
+    /// pieces examined.
     // Inlined into each walk for speed; `compact` keeps one copy.
     #[cfg_attr(not(feature = "compact"), inline(always))]
     #[cfg_attr(feature = "compact", inline)]
@@ -176,6 +178,7 @@ impl<S: Real> Cell<'_, S> {
         &self,
         a: &BoundaryPoint<S>,
         b: &BoundaryPoint<S>,
+        wet: bool,
         tests: &mut u64,
     ) -> Option<Crossing<S>> {
         let s_a = a.fu + a.fv - S::ONE;
@@ -188,7 +191,7 @@ impl<S: Real> Cell<'_, S> {
             } else {
                 Triangle::B
             };
-            return self.piece(a, b, tri);
+            return self.piece(a, b, tri, wet);
         }
         // The diagonal fu + fv = 1 is crossed strictly inside the segment.
         let lambda = s_a / (s_a - s_b);
@@ -208,11 +211,11 @@ impl<S: Real> Cell<'_, S> {
             (Triangle::B, Triangle::A)
         };
         *tests += 1;
-        if let Some(hit) = self.piece(a, &d, first) {
+        if let Some(hit) = self.piece(a, &d, first, wet) {
             return Some(hit);
         }
         *tests += 1;
-        self.piece(&d, b, second)
+        self.piece(&d, b, second, wet)
     }
 
     /// The crossing on one linear piece of `g`, if any.
@@ -224,6 +227,7 @@ impl<S: Real> Cell<'_, S> {
         p: &BoundaryPoint<S>,
         q: &BoundaryPoint<S>,
         triangle: Triangle,
+        wet: bool,
     ) -> Option<Crossing<S>> {
         let (c, water) = (&self.corners, self.water);
         let zero = S::ZERO;
@@ -244,12 +248,14 @@ impl<S: Real> Cell<'_, S> {
         // Elsewhere the test is skipped rather than trusted: near an edge the
         // rounded (fu, fv) may sit a hair outside the triangle, and its plane
         // extrapolated there can dip below a water level it never reaches.
-        let lowest = match triangle {
-            Triangle::A => c.h00.min(c.h10).min(c.h01),
-            Triangle::B => c.h11.min(c.h01).min(c.h10),
-        };
-        if lowest < water && c.plane_height(at.fu, at.fv) < water {
-            return None;
+        if wet {
+            let lowest = match triangle {
+                Triangle::A => c.h00.min(c.h10).min(c.h01),
+                Triangle::B => c.h11.min(c.h01).min(c.h10),
+            };
+            if lowest < water && c.plane_height(at.fu, at.fv) < water {
+                return None;
+            }
         }
         Some(Crossing {
             t: at.t,

@@ -419,7 +419,7 @@ impl<S: Real> Walk<S> {
                 Exit::End => Place::Interior,
             };
             let b = cell.point_at(t_b, y_b, exit_place);
-            if let Some(hit) = cell.first_crossing(&a, &b, &mut counters.triangle_tests) {
+            if let Some(hit) = cell.first_crossing(&a, &b, self.wet, &mut counters.triangle_tests) {
                 *stop = Some(c.resume());
                 return Visit::Hit(GridHit {
                     t: hit.t,
