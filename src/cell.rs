@@ -57,7 +57,11 @@ impl<S: Real> Corners<S> {
 /// Where on the cell a boundary sample lies. Shared edges and vertices are
 /// interpolated by one formula from both sides, so neighbouring cells agree
 /// to the bit.
+// `repr(u8)`: an explicit tag byte, which the cell test's dispatch reads as
+// is (the default layout hides the tag in `Vertex`'s first flag, to be
+// decoded before every dispatch).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
 pub(crate) enum Place {
     /// Strictly inside (the ray's start or end).
     Interior,
