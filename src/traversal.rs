@@ -432,26 +432,31 @@ impl<S: Real> Walk<S> {
         }
         match exit {
             Exit::End => return Visit::Miss,
+            // Each way out sets the entry place it makes (`entry_place`),
+            // only the flags it needs.
             Exit::U => {
                 c.i = i + au.step;
                 c.tu = au.exit::<MOVING>(c.i, o[0]);
+                c.entry = Place::EdgeU(au.step < 0);
             }
             Exit::V => {
                 c.j = j + av.step;
                 c.tv = av.exit::<MOVING>(c.j, o[2]);
+                c.entry = Place::EdgeV(av.step < 0);
             }
             Exit::Corner => {
                 c.i = i + au.step;
                 c.j = j + av.step;
                 c.tu = au.exit::<MOVING>(c.i, o[0]);
                 c.tv = av.exit::<MOVING>(c.j, o[2]);
+                c.entry = Place::Vertex(au.step < 0, av.step < 0);
             }
         }
         debug_assert!(
             c.i >= 0 && c.j >= 0 && c.i < self.cells_u && c.j < self.cells_v,
             "a cell step left the field"
         );
-        c.entry = entry_place(exit, au.step, av.step);
+        debug_assert!(c.entry == entry_place(exit, au.step, av.step));
         c.t_a = t_b;
         c.y_a = y_b;
         Visit::Next
