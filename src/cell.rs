@@ -282,7 +282,9 @@ struct Lerped<S> {
 #[inline]
 fn lerp_t<S: Real>(a: S, b: S, lambda: S) -> S {
     let span = b - a;
-    let t = if span.is_finite() {
+    // `span` is not negative (`a <= b`): finite exactly when at most `MAX`
+    // (one comparison; NaN fails both tests).
+    let t = if span <= S::MAX {
         a + span * lambda
     } else {
         a * (S::ONE - lambda) + b * lambda
