@@ -43,10 +43,13 @@ impl<S: Real> Corners<S> {
     /// Height of the plane of the triangle containing local `(fu, fv)`.
     #[inline]
     pub fn plane_height(&self, fu: S, fv: S) -> S {
+        // By value: the two arms then pick values, not addresses into the
+        // cell (which would keep the whole cell in memory).
+        let Corners { h00, h10, h01, h11 } = *self;
         if fu + fv <= S::ONE {
-            self.h00 + fu * (self.h10 - self.h00) + fv * (self.h01 - self.h00)
+            h00 + fu * (h10 - h00) + fv * (h01 - h00)
         } else {
-            self.h11 + (S::ONE - fu) * (self.h01 - self.h11) + (S::ONE - fv) * (self.h10 - self.h11)
+            h11 + (S::ONE - fu) * (h01 - h11) + (S::ONE - fv) * (h10 - h11)
         }
     }
 }
@@ -54,7 +57,11 @@ impl<S: Real> Corners<S> {
 /// Where on the cell a boundary sample lies. Shared edges and vertices are
 /// interpolated by one formula from both sides, so neighbouring cells agree
 /// to the bit.
+// `repr(u8)`: an explicit tag byte, which the cell test's dispatch reads as
+// is (the default layout hides the tag in `Vertex`'s first flag, to be
+// decoded before every dispatch).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
 pub(crate) enum Place {
     /// Strictly inside (the ray's start or end).
     Interior,
@@ -80,13 +87,10 @@ fn clamp01<S: Real>(v: S) -> S {
     v.max(S::ZERO).min(S::ONE)
 }
 
-#[inline]
-fn pick<S: Real>(one: bool) -> S {
-    if one {
-        S::ONE
-    } else {
-        S::ZERO
-    }
+/// The height at `f` (in `[0, 1]`) along the edge from `lo` to `hi`.
+#[inline(always)]
+fn along<S: Real>(lo: S, hi: S, f: S) -> S {
+    lo + f * (hi - lo)
 }
 
 /// One cell as the ray sees it: the ray (grid space), the cell's corner
@@ -107,38 +111,45 @@ impl<S: Real> Cell<'_, S> {
     #[cfg_attr(not(feature = "compact"), inline(always))]
     #[cfg_attr(feature = "compact", inline)]
     pub fn point(&self, t: S, place: Place) -> BoundaryPoint<S> {
+        self.point_at(t, self.origin[1] + t * self.dir[1], place)
+    }
+
+    /// [`point`](Self::point) given the ray's height `y = o_y + t·d_y`,
+    /// which the walk has already computed (by that same expression).
+    #[cfg_attr(not(feature = "compact"), inline(always))]
+    #[cfg_attr(feature = "compact", inline)]
+    pub fn point_at(&self, t: S, y: S, place: Place) -> BoundaryPoint<S> {
         let (origin, dir, c) = (self.origin, self.dir, &self.corners);
-        let y = origin[1] + t * dir[1];
         let u = || clamp01(origin[0] + t * dir[0] - self.cu);
         let v = || clamp01(origin[2] + t * dir[2] - self.cv);
+        // One arm per edge and vertex, each naming its corners: no
+        // selection between corner pairs at run time.
+        let (zero, one) = (S::ZERO, S::ONE);
         let (fu, fv, h) = match place {
             Place::Interior => {
                 let (fu, fv) = (u(), v());
                 (fu, fv, c.plane_height(fu, fv))
             }
-            Place::EdgeU(right) => {
+            Place::EdgeU(false) => {
                 let fv = v();
-                let (lo, hi) = if right {
-                    (c.h10, c.h11)
-                } else {
-                    (c.h00, c.h01)
-                };
-                (pick(right), fv, lo + fv * (hi - lo))
+                (zero, fv, along(c.h00, c.h01, fv))
             }
-            Place::EdgeV(top) => {
+            Place::EdgeU(true) => {
+                let fv = v();
+                (one, fv, along(c.h10, c.h11, fv))
+            }
+            Place::EdgeV(false) => {
                 let fu = u();
-                let (lo, hi) = if top { (c.h01, c.h11) } else { (c.h00, c.h10) };
-                (fu, pick(top), lo + fu * (hi - lo))
+                (fu, zero, along(c.h00, c.h10, fu))
             }
-            Place::Vertex(right, top) => {
-                let h = match (right, top) {
-                    (false, false) => c.h00,
-                    (true, false) => c.h10,
-                    (false, true) => c.h01,
-                    (true, true) => c.h11,
-                };
-                (pick(right), pick(top), h)
+            Place::EdgeV(true) => {
+                let fu = u();
+                (fu, one, along(c.h01, c.h11, fu))
             }
+            Place::Vertex(false, false) => (zero, zero, c.h00),
+            Place::Vertex(true, false) => (one, zero, c.h10),
+            Place::Vertex(false, true) => (zero, one, c.h01),
+            Place::Vertex(true, true) => (one, one, c.h11),
         };
         BoundaryPoint {
             t,
@@ -160,8 +171,10 @@ pub(crate) struct Crossing<S> {
 
 impl<S: Real> Cell<'_, S> {
     /// Finds the first crossing of the ray with the cell's surface between
-    /// `a` and `b`, ignoring surface below the water. `tests` counts the
-    /// triangle pieces examined.
+    /// `a` and `b`, ignoring surface below the water. `wet`: the water can
+    /// hide surface (`false` only if no corner is below the water level,
+    /// as when the level is at or below 0). `tests` counts the triangle
+    /// pieces examined.
     // Inlined into each walk for speed; `compact` keeps one copy.
     #[cfg_attr(not(feature = "compact"), inline(always))]
     #[cfg_attr(feature = "compact", inline)]
@@ -169,6 +182,7 @@ impl<S: Real> Cell<'_, S> {
         &self,
         a: &BoundaryPoint<S>,
         b: &BoundaryPoint<S>,
+        wet: bool,
         tests: &mut u64,
     ) -> Option<Crossing<S>> {
         let s_a = a.fu + a.fv - S::ONE;
@@ -181,7 +195,7 @@ impl<S: Real> Cell<'_, S> {
             } else {
                 Triangle::B
             };
-            return self.piece(a, b, tri);
+            return self.piece(a, b, tri, wet);
         }
         // The diagonal fu + fv = 1 is crossed strictly inside the segment.
         let lambda = s_a / (s_a - s_b);
@@ -201,11 +215,11 @@ impl<S: Real> Cell<'_, S> {
             (Triangle::B, Triangle::A)
         };
         *tests += 1;
-        if let Some(hit) = self.piece(a, &d, first) {
+        if let Some(hit) = self.piece(a, &d, first, wet) {
             return Some(hit);
         }
         *tests += 1;
-        self.piece(&d, b, second)
+        self.piece(&d, b, second, wet)
     }
 
     /// The crossing on one linear piece of `g`, if any.
@@ -217,6 +231,7 @@ impl<S: Real> Cell<'_, S> {
         p: &BoundaryPoint<S>,
         q: &BoundaryPoint<S>,
         triangle: Triangle,
+        wet: bool,
     ) -> Option<Crossing<S>> {
         let (c, water) = (&self.corners, self.water);
         let zero = S::ZERO;
@@ -237,12 +252,14 @@ impl<S: Real> Cell<'_, S> {
         // Elsewhere the test is skipped rather than trusted: near an edge the
         // rounded (fu, fv) may sit a hair outside the triangle, and its plane
         // extrapolated there can dip below a water level it never reaches.
-        let lowest = match triangle {
-            Triangle::A => c.h00.min(c.h10).min(c.h01),
-            Triangle::B => c.h11.min(c.h01).min(c.h10),
-        };
-        if lowest < water && c.plane_height(at.fu, at.fv) < water {
-            return None;
+        if wet {
+            let lowest = match triangle {
+                Triangle::A => c.h00.min(c.h10).min(c.h01),
+                Triangle::B => c.h11.min(c.h01).min(c.h10),
+            };
+            if lowest < water && c.plane_height(at.fu, at.fv) < water {
+                return None;
+            }
         }
         Some(Crossing {
             t: at.t,
@@ -265,7 +282,9 @@ struct Lerped<S> {
 #[inline]
 fn lerp_t<S: Real>(a: S, b: S, lambda: S) -> S {
     let span = b - a;
-    let t = if span.is_finite() {
+    // `span` is not negative (`a <= b`): finite exactly when at most `MAX`
+    // (one comparison; NaN fails both tests).
+    let t = if span <= S::MAX {
         a + span * lambda
     } else {
         a * (S::ONE - lambda) + b * lambda

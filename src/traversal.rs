@@ -411,15 +411,15 @@ impl<S: Real> Walk<S> {
                 corners: Corners::from_raw(raw, mult),
                 water: self.water,
             };
-            let a = cell.point(t_a, c.entry);
+            let a = cell.point_at(t_a, y_a, c.entry);
             let exit_place = match exit {
                 Exit::U => Place::EdgeU(au.step > 0),
                 Exit::V => Place::EdgeV(av.step > 0),
                 Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
                 Exit::End => Place::Interior,
             };
-            let b = cell.point(t_b, exit_place);
-            if let Some(hit) = cell.first_crossing(&a, &b, &mut counters.triangle_tests) {
+            let b = cell.point_at(t_b, y_b, exit_place);
+            if let Some(hit) = cell.first_crossing(&a, &b, self.wet, &mut counters.triangle_tests) {
                 *stop = Some(c.resume());
                 return Visit::Hit(GridHit {
                     t: hit.t,
@@ -432,26 +432,31 @@ impl<S: Real> Walk<S> {
         }
         match exit {
             Exit::End => return Visit::Miss,
+            // Each way out sets the entry place it makes (`entry_place`),
+            // only the flags it needs.
             Exit::U => {
                 c.i = i + au.step;
                 c.tu = au.exit::<MOVING>(c.i, o[0]);
+                c.entry = Place::EdgeU(au.step < 0);
             }
             Exit::V => {
                 c.j = j + av.step;
                 c.tv = av.exit::<MOVING>(c.j, o[2]);
+                c.entry = Place::EdgeV(av.step < 0);
             }
             Exit::Corner => {
                 c.i = i + au.step;
                 c.j = j + av.step;
                 c.tu = au.exit::<MOVING>(c.i, o[0]);
                 c.tv = av.exit::<MOVING>(c.j, o[2]);
+                c.entry = Place::Vertex(au.step < 0, av.step < 0);
             }
         }
         debug_assert!(
             c.i >= 0 && c.j >= 0 && c.i < self.cells_u && c.j < self.cells_v,
             "a cell step left the field"
         );
-        c.entry = entry_place(exit, au.step, av.step);
+        debug_assert!(c.entry == entry_place(exit, au.step, av.step));
         c.t_a = t_b;
         c.y_a = y_b;
         Visit::Next
