@@ -690,6 +690,7 @@ impl<'a> HeightField<'a> {
 
     /// The grid hits of `rays` walked in `f32`, as
     /// [`intersect_in`](Self::intersect_in) finds them one by one.
+    #[inline(always)]
     fn grid_hits_packet(
         &self,
         rays: &RayPacket,

@@ -163,7 +163,9 @@ fn clip(o: &Lanes, inv: &Lanes, lo: &Lanes, hi: &Lanes, t: &mut (Lanes, Lanes)) 
 /// [`nearest`] (not `any`) for each of `rays`, over the same `[t_min,
 /// t_max]`: the same hits, bit for bit (see the module docs). With
 /// `columns`, lane `l` is a primary ray of an image column whose state is
-/// `columns[l]`, walked as [`nearest_in_column`] walks it.
+/// `columns[l]`, walked as [`nearest_in_column`] walks it. Inlined, so that
+/// each caller gets its own copy, with or without columns.
+#[inline(always)]
 pub(crate) fn nearest_packet<F: WalkGrid>(
     field: &F,
     rays: &RayPacket,
