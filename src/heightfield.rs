@@ -14,6 +14,8 @@
 //! to those exactly), so the heights the traversal sees are exact in every
 //! numeric type.
 
+use core::cell::Cell;
+
 use glam::{DAffine3, DVec3, Vec3};
 
 use crate::cell::Corners;
@@ -973,6 +975,76 @@ impl<'a> HeightField<'a> {
         crate::math::normalize_or_zero(n)
     }
 
+    /// [`smooth_normal`](Self::smooth_normal) with the vertex normals
+    /// looked up in `cache` first (this field is the cache's field `field`,
+    /// any number that tells the caller's fields apart). The same bits: a
+    /// cached normal is the one [`vertex_normal_at`](Self::vertex_normal_at)
+    /// computes, and that is the one the shared computation gives
+    /// (`smooth_normal_shares_work_bit_for_bit`).
+    pub(crate) fn smooth_normal_cached(
+        &self,
+        hit: &FieldHit,
+        field: usize,
+        cache: &VertexNormalCache,
+    ) -> Vec3 {
+        let (fu, fv) = hit.local;
+        let (x, z) = (hit.cell_x, hit.cell_z);
+        if !self.has_cell(x, z) {
+            return hit.normal;
+        }
+        let vertex = |vx: u32, vz: u32| self.vertex_normal_at(vx, vz);
+        let [n00, n01] = cache.column(field, x, z, vertex);
+        let [n10, n11] = cache.column(field, x + 1, z, vertex);
+        let (u, v) = (1.0 - fu, 1.0 - fv);
+        let n = (n00 * u + n10 * fu) * v + (n01 * u + n11 * fu) * fv;
+        crate::math::normalize_or_zero(n)
+    }
+
+    /// The world normal of vertex `(x, z)` (in the grid) on its own: one of
+    /// [`vertex_normals_world`](Self::vertex_normals_world)'s four, from the
+    /// vertex's height and its four neighbours' (clamped to the grid, as
+    /// there: a step past the edge is 0 and its square infinite).
+    #[inline(always)]
+    fn vertex_normal_at(&self, x: u32, z: u32) -> Vec3 {
+        let [west_h, h0, east_h, south_h, north_h] = match self.samples {
+            Samples::U8(s) => self.cross(s, x, z),
+            Samples::U16(s) => self.cross(s, x, z),
+        };
+        let units = self.units_per_sample() as f32;
+        let step = |to: i32, from: i32| (to - from) as f32 * units;
+        let (right, left) = (step(east_h, h0), step(h0, west_h));
+        let (up, down) = (step(north_h, h0), step(h0, south_h));
+        let outside = |edge_inside: bool, sq: f32| if edge_inside { sq } else { f32::INFINITY };
+        let sq1 = |d: f32| d * d + 1.0;
+        self.vertex_normal_world(
+            [right, left],
+            [up, down],
+            [
+                outside(x + 1 < self.width, sq1(right)),
+                outside(x > 0, sq1(left)),
+            ],
+            [
+                outside(z + 1 < self.depth, up * up),
+                outside(z > 0, down * down),
+            ],
+        )
+    }
+
+    /// The raw samples of vertex `(x, z)` and its neighbours, each clamped
+    /// to the grid: `[west, (x, z), east, south, north]`.
+    #[inline(always)]
+    fn cross<T: Copy + Into<i32>>(&self, samples: &[T], x: u32, z: u32) -> [i32; 5] {
+        let w = self.width as usize;
+        // Grid row z is image row depth − 1 − z: north (z + 1) is one image
+        // row back, south one on. A neighbour past the edge is the vertex.
+        let at = (self.depth - 1 - z) as usize * w + x as usize;
+        let west = at - usize::from(x > 0);
+        let east = at + usize::from(x + 1 < self.width);
+        let north = at - if z + 1 < self.depth { w } else { 0 };
+        let south = at + if z > 0 { w } else { 0 };
+        [west, at, east, south, north].map(|i| samples[i].into())
+    }
+
     /// The normals of cell `(x, z)`'s vertices `(x, z)`, `(x + 1, z)`,
     /// `(x, z + 1)`, `(x + 1, z + 1)` as POV-Ray stores them (raw field
     /// space, quantised to `i16` steps), carried to world space and
@@ -1218,6 +1290,86 @@ impl WalkGrid for HeightField<'_> {
     }
 }
 
+/// Vertex normals kept for [`HeightField::smooth_normal_cached`], two
+/// to a grid column: slot `x mod 128` holds the normals of vertices
+/// `(x, z)` and `(x, z + 1)` of one field, the left or right edge of the
+/// last cell hit in that column.
+///
+/// A hit needs its cell's four vertex normals, six square roots and six
+/// divisions each; neighbouring hits share vertices. Measured on the
+/// firmware's `lcd` frame (9,615 smooth hits, row by row): without a cache
+/// every hit computes 4 vertex normals; with this one 1.96 (a slot per
+/// vertex, 256 of them, also 1.96; an unbounded cache 1.69: most vertices
+/// are seen by one or two hits). A row of hits walks along the columns, and
+/// a column's next cell is usually the same or one row off, which keeps one
+/// of its two normals.
+///
+/// Interior mutability (`Cell`), so the tracer that holds one stays
+/// shared (`&self`) while it traces; it is not `Sync`, and a render keeps
+/// one per tracer. 128 slots of 32 bytes (4 KiB).
+#[derive(Debug, Clone)]
+pub(crate) struct VertexNormalCache {
+    columns: [Cell<CachedColumn>; VertexNormalCache::COLUMNS],
+}
+
+/// One slot: the world normals of vertices `(x, z)` and `(x, z + 1)` of
+/// field `field`.
+#[derive(Debug, Clone, Copy)]
+struct CachedColumn {
+    /// `x` in the low 20 bits ([`MAX_SIDE`]), the field above; `u32::MAX`
+    /// (no vertex's: `x < 2^20 − 1` or `field < 4095`) in an empty slot.
+    x_field: u32,
+    z: u32,
+    normals: [[f32; 3]; 2],
+}
+
+impl VertexNormalCache {
+    const COLUMNS: usize = 128;
+
+    pub(crate) const fn new() -> Self {
+        const EMPTY: Cell<CachedColumn> = Cell::new(CachedColumn {
+            x_field: u32::MAX,
+            z: 0,
+            normals: [[0.0; 3]; 2],
+        });
+        VertexNormalCache {
+            columns: [EMPTY; VertexNormalCache::COLUMNS],
+        }
+    }
+
+    /// The normals of vertices `(x, z)` and `(x, z + 1)` of field `field`:
+    /// the cached ones, or `vertex(x, z)`'s and `vertex(x, z + 1)`'s
+    /// (computing only the one not kept), kept. Fields from the 4,095th on
+    /// are not cached.
+    #[inline(always)]
+    fn column(&self, field: usize, x: u32, z: u32, vertex: impl Fn(u32, u32) -> Vec3) -> [Vec3; 2] {
+        if field >= (1 << 12) - 1 {
+            return [vertex(x, z), vertex(x, z + 1)];
+        }
+        let x_field = x | (field as u32) << 20;
+        let slot = &self.columns[x as usize % Self::COLUMNS];
+        let c = slot.get();
+        let [low, high] = c.normals.map(Vec3::from_array);
+        let normals = if c.x_field != x_field {
+            [vertex(x, z), vertex(x, z + 1)]
+        } else if c.z == z {
+            return [low, high];
+        } else if c.z == z.wrapping_sub(1) {
+            [high, vertex(x, z + 1)]
+        } else if c.z == z + 1 {
+            [vertex(x, z), low]
+        } else {
+            [vertex(x, z), vertex(x, z + 1)]
+        };
+        slot.set(CachedColumn {
+            x_field,
+            z,
+            normals: normals.map(|n| n.to_array()),
+        });
+        normals
+    }
+}
+
 trait IntoU32Pair {
     fn into_u32(self) -> (u32, u32);
 }
@@ -1296,7 +1448,10 @@ mod tests {
             HeightField::new(Samples::U8(&u8s[..4]), 2, 2, HeightConvention::Gray8).unwrap(),
         ];
         let mut checked = 0;
-        for field in &fields {
+        // One cache for all the fields (told apart by their index), kept
+        // warm across the loop; its answers must be the same bits.
+        let cache = VertexNormalCache::new();
+        for (index, field) in fields.iter().enumerate() {
             for z in 0..field.depth() - 1 {
                 for x in 0..field.width() - 1 {
                     for k in 0..6 {
@@ -1316,15 +1471,18 @@ mod tests {
                             local: (fu, fv),
                             normal: Vec3::Y,
                         };
-                        let (got, want) = (
+                        let want = smooth_normal_one_vertex_at_a_time(field, &hit);
+                        for got in [
                             field.smooth_normal(&hit),
-                            smooth_normal_one_vertex_at_a_time(field, &hit),
-                        );
-                        assert_eq!(
-                            got.to_array().map(f32::to_bits),
-                            want.to_array().map(f32::to_bits),
-                            "cell ({x}, {z}) at ({fu}, {fv}): {got:?} vs {want:?}"
-                        );
+                            field.smooth_normal_cached(&hit, index, &cache),
+                            field.smooth_normal_cached(&hit, 0, &VertexNormalCache::new()),
+                        ] {
+                            assert_eq!(
+                                got.to_array().map(f32::to_bits),
+                                want.to_array().map(f32::to_bits),
+                                "cell ({x}, {z}) at ({fu}, {fv}): {got:?} vs {want:?}"
+                            );
+                        }
                         checked += 1;
                     }
                 }
