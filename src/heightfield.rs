@@ -1291,7 +1291,8 @@ impl WalkGrid for HeightField<'_> {
 }
 
 /// Vertex normals kept for [`HeightField::smooth_normal_cached`], two
-/// to a grid column: slot `x mod 128` holds the normals of vertices
+/// to a grid column: slot `x mod 128` (`x mod 16` in a `compact` build)
+/// holds the normals of vertices
 /// `(x, z)` and `(x, z + 1)` of one field, the left or right edge of the
 /// last cell hit in that column.
 ///
@@ -1306,7 +1307,7 @@ impl WalkGrid for HeightField<'_> {
 ///
 /// Interior mutability (`Cell`), so the tracer that holds one stays
 /// shared (`&self`) while it traces; it is not `Sync`, and a render keeps
-/// one per tracer. 128 slots of 32 bytes (4 KiB).
+/// one per tracer. Slots of 32 bytes: [`COLUMNS`](Self::COLUMNS).
 #[derive(Debug, Clone)]
 pub(crate) struct VertexNormalCache {
     columns: [Cell<CachedColumn>; VertexNormalCache::COLUMNS],
@@ -1324,7 +1325,10 @@ struct CachedColumn {
 }
 
 impl VertexNormalCache {
-    const COLUMNS: usize = 128;
+    /// 128 columns (4 KiB); 16 (512 bytes) in a `compact` build, for the
+    /// Cortex-M0's 16 KiB of RAM, where the tracer (with its cache) is on
+    /// the stack twice while it is made.
+    const COLUMNS: usize = if cfg!(feature = "compact") { 16 } else { 128 };
 
     pub(crate) const fn new() -> Self {
         const EMPTY: Cell<CachedColumn> = Cell::new(CachedColumn {
