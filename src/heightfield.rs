@@ -1500,13 +1500,13 @@ impl VertexNormalCache {
     const COLUMNS: usize = if cfg!(feature = "compact") { 16 } else { 128 };
 
     pub(crate) const fn new() -> Self {
-        const EMPTY: Cell<CachedColumn> = Cell::new(CachedColumn {
+        const EMPTY: CachedColumn = CachedColumn {
             x_field: u32::MAX,
             z: 0,
             normals: [[0.0; 3]; 2],
-        });
+        };
         VertexNormalCache {
-            columns: [EMPTY; VertexNormalCache::COLUMNS],
+            columns: [const { Cell::new(EMPTY) }; VertexNormalCache::COLUMNS],
         }
     }
 
