@@ -14,6 +14,8 @@
 //! to those exactly), so the heights the traversal sees are exact in every
 //! numeric type.
 
+use core::cell::Cell;
+
 use glam::{DAffine3, DVec3, Vec3};
 
 use crate::cell::Corners;
@@ -103,6 +105,14 @@ pub enum HeightFieldError {
     /// A palette was given for 16-bit samples: palette colours are looked
     /// up by 8-bit index.
     PaletteNeeds8Bit,
+    /// A table of precomputed vertex normals is not
+    /// [`HeightField::raw_normals_bytes`] long.
+    RawNormals {
+        /// [`HeightField::raw_normals_bytes`].
+        expected: usize,
+        /// The table's length.
+        actual: usize,
+    },
 }
 
 impl core::fmt::Display for HeightFieldError {
@@ -129,6 +139,10 @@ impl core::fmt::Display for HeightFieldError {
             }
             HeightFieldError::PaletteNeeds8Bit => f.write_str(
                 "a palette colours 8-bit samples by index; this height field has 16-bit samples",
+            ),
+            HeightFieldError::RawNormals { expected, actual } => write!(
+                f,
+                "a vertex normal table for this height field holds {expected} bytes, not {actual}"
             ),
         }
     }
@@ -164,6 +178,9 @@ pub struct HeightField<'a> {
     /// `normal_matrix` has no off-diagonal entry (a field scaled, not
     /// turned): normals are carried by three products.
     normal_diagonal: bool,
+    /// POV-Ray's vertex normals, precomputed
+    /// ([`with_raw_normals`](Self::with_raw_normals)).
+    raw_normals: Option<&'a [u8]>,
     skip: Option<SkipGrid<'a>>,
     traversal: Traversal,
     numeric: Numeric,
@@ -251,6 +268,7 @@ impl<'a> HeightField<'a> {
             world_to_grid: GridTransform::IDENTITY,
             normal_matrix: glam::Mat3::IDENTITY,
             normal_diagonal: true,
+            raw_normals: None,
             skip: None,
             traversal: Traversal::default(),
             numeric: Numeric::default(),
@@ -308,6 +326,64 @@ impl<'a> HeightField<'a> {
     /// a field of this size and sample width.
     pub fn with_skip(mut self, bytes: &'a [u8]) -> Result<Self, SkipError> {
         self.skip = Some(SkipGrid::from_precomputed(bytes, &self)?);
+        Ok(self)
+    }
+
+    /// Bytes of this field's table of vertex normals
+    /// ([`write_raw_normals`](Self::write_raw_normals)): 6 a vertex.
+    pub fn raw_normals_bytes(&self) -> usize {
+        self.width as usize * self.depth as usize * 6
+    }
+
+    /// Writes POV-Ray's smooth-shading vertex normals of this field into
+    /// `out` ([`raw_normals_bytes`](Self::raw_normals_bytes) long): per
+    /// sample, in the samples' order, the normal as POV-Ray stores it
+    /// (raw field space, `(short)(32767·n)`), three little-endian `i16`.
+    /// They depend on the samples and the convention only, not on the
+    /// transform. POV-Ray computes them when it reads a smooth field; a
+    /// program can do the same, or keep them where it keeps the samples
+    /// (flash), and hand them to
+    /// [`with_raw_normals`](Self::with_raw_normals).
+    pub fn write_raw_normals(&self, out: &mut [u8]) -> Result<(), HeightFieldError> {
+        let expected = self.raw_normals_bytes();
+        if out.len() != expected {
+            return Err(HeightFieldError::RawNormals {
+                expected,
+                actual: out.len(),
+            });
+        }
+        let mut chunks = out.chunks_exact_mut(6);
+        // Image row 0 (grid row depth − 1) first, as the samples.
+        for z in (0..self.depth).rev() {
+            for x in 0..self.width {
+                let q = self.raw_vertex_normal_at(x, z);
+                if let Some(chunk) = chunks.next() {
+                    for (bytes, c) in chunk.chunks_exact_mut(2).zip(q) {
+                        // |c| <= 32767.
+                        bytes.copy_from_slice(&(c as i16).to_le_bytes());
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The same field taking its smooth-shading vertex normals from
+    /// `table`, written by [`write_raw_normals`](Self::write_raw_normals)
+    /// for these samples and convention (perhaps at build time, into
+    /// flash), instead of computing each one when a hit needs it: the same
+    /// normals, so the same pictures, for a table made for this field. A
+    /// table made for other samples gives other (finite) normals. Fails if
+    /// `table` is not [`raw_normals_bytes`](Self::raw_normals_bytes) long.
+    pub fn with_raw_normals(mut self, table: &'a [u8]) -> Result<Self, HeightFieldError> {
+        let expected = self.raw_normals_bytes();
+        if table.len() != expected {
+            return Err(HeightFieldError::RawNormals {
+                expected,
+                actual: table.len(),
+            });
+        }
+        self.raw_normals = Some(table);
         Ok(self)
     }
 
@@ -1036,10 +1112,156 @@ impl<'a> HeightField<'a> {
         if !self.has_cell(x, z) {
             return hit.normal;
         }
-        let [n00, n10, n01, n11] = self.vertex_normals_world(x, z);
+        let [n00, n10, n01, n11] = if self.raw_normals.is_some() {
+            let vertex = |vx: u32, vz: u32| self.vertex_normal_at(vx, vz);
+            [
+                vertex(x, z),
+                vertex(x + 1, z),
+                vertex(x, z + 1),
+                vertex(x + 1, z + 1),
+            ]
+        } else {
+            self.vertex_normals_world(x, z)
+        };
         let (u, v) = (1.0 - fu, 1.0 - fv);
         let n = (n00 * u + n10 * fu) * v + (n01 * u + n11 * fu) * fv;
         crate::math::normalize_or_zero(n)
+    }
+
+    /// [`smooth_normal`](Self::smooth_normal) with the vertex normals
+    /// looked up in `cache` first (this field is the cache's field `field`,
+    /// any number that tells the caller's fields apart). The same bits: a
+    /// cached normal is the one [`vertex_normal_at`](Self::vertex_normal_at)
+    /// computes, and that is the one the shared computation gives
+    /// (`smooth_normal_shares_work_bit_for_bit`).
+    pub(crate) fn smooth_normal_cached(
+        &self,
+        hit: &FieldHit,
+        field: usize,
+        cache: &VertexNormalCache,
+    ) -> Vec3 {
+        let (fu, fv) = hit.local;
+        let (x, z) = (hit.cell_x, hit.cell_z);
+        if !self.has_cell(x, z) {
+            return hit.normal;
+        }
+        let vertex = |vx: u32, vz: u32| self.vertex_normal_at(vx, vz);
+        let [n00, n01] = cache.column(field, x, z, vertex);
+        let [n10, n11] = cache.column(field, x + 1, z, vertex);
+        let (u, v) = (1.0 - fu, 1.0 - fv);
+        let n = (n00 * u + n10 * fu) * v + (n01 * u + n11 * fu) * fv;
+        crate::math::normalize_or_zero(n)
+    }
+
+    /// The world normal of vertex `(x, z)` (in the grid) on its own: one of
+    /// [`vertex_normals_world`](Self::vertex_normals_world)'s four, from
+    /// the field's table if it has one
+    /// ([`with_raw_normals`](Self::with_raw_normals)), else from the
+    /// vertex's height and its four neighbours'.
+    #[inline(always)]
+    fn vertex_normal_at(&self, x: u32, z: u32) -> Vec3 {
+        let q = match self.raw_normals {
+            Some(table) => {
+                // Grid row z is image row depth − 1 − z.
+                let at = 6 * ((self.depth - 1 - z) as usize * self.width as usize + x as usize);
+                let &[x0, x1, y0, y1, z0, z1] = &table[at..at + 6] else {
+                    unreachable!("a six-byte range")
+                };
+                [[x0, x1], [y0, y1], [z0, z1]].map(|b| i32::from(i16::from_le_bytes(b)))
+            }
+            None => self.raw_vertex_normal_at(x, z),
+        };
+        self.raw_normal_to_world(q)
+    }
+
+    /// The raw (quantised) normal of vertex `(x, z)` (in the grid), as
+    /// [`raw_vertex_normal`](Self::raw_vertex_normal) makes it. A vertex
+    /// inside the grid has all four neighbours; one on the grid's edge is
+    /// left to [`edge_raw_vertex_normal`](Self::edge_raw_vertex_normal), out
+    /// of line (rare; measured on the M4F's `lcd` frame, the interior path
+    /// without the edge's clamping and infinite squares runs 12
+    /// instructions less a vertex).
+    #[inline(always)]
+    fn raw_vertex_normal_at(&self, x: u32, z: u32) -> [i32; 3] {
+        // Inside: `0 < x < width − 1` and `0 < z < depth − 1` (sides >= 2).
+        if x.wrapping_sub(1) >= self.width - 2 || z.wrapping_sub(1) >= self.depth - 2 {
+            return self.edge_raw_vertex_normal(x, z);
+        }
+        let [west_h, h0, east_h, south_h, north_h] = match self.samples {
+            Samples::U8(s) => self.interior_cross(s, x, z),
+            Samples::U16(s) => self.interior_cross(s, x, z),
+        };
+        let units = self.units_per_sample() as f32;
+        let step = |to: i32, from: i32| (to - from) as f32 * units;
+        let (right, left) = (step(east_h, h0), step(h0, west_h));
+        let (up, down) = (step(north_h, h0), step(h0, south_h));
+        let sq1 = |d: f32| d * d + 1.0;
+        Self::raw_vertex_normal(
+            [right, left],
+            [up, down],
+            [sq1(right), sq1(left)],
+            [up * up, down * down],
+        )
+    }
+
+    /// The raw samples of vertex `(x, z)`, inside the grid, and its four
+    /// neighbours: `[west, (x, z), east, south, north]`.
+    #[inline(always)]
+    fn interior_cross<T: Copy + Into<i32>>(&self, samples: &[T], x: u32, z: u32) -> [i32; 5] {
+        let w = self.width as usize;
+        // Grid row z is image row depth − 1 − z: north (z + 1) is one image
+        // row back, south one on.
+        let at = (self.depth - 1 - z) as usize * w + x as usize;
+        // One bounds check for the three in the row.
+        let &[west, here, east] = &samples[at - 1..at + 2] else {
+            unreachable!("a three-sample range")
+        };
+        [west, here, east, samples[at + w], samples[at - w]].map(Into::into)
+    }
+
+    /// [`raw_vertex_normal_at`](Self::raw_vertex_normal_at) of any vertex
+    /// in the grid: its neighbours clamped to the grid, as in
+    /// [`vertex_normals_world`](Self::vertex_normals_world) (a step past
+    /// the edge is 0 and its square infinite).
+    #[inline(never)]
+    fn edge_raw_vertex_normal(&self, x: u32, z: u32) -> [i32; 3] {
+        let [west_h, h0, east_h, south_h, north_h] = match self.samples {
+            Samples::U8(s) => self.cross(s, x, z),
+            Samples::U16(s) => self.cross(s, x, z),
+        };
+        let units = self.units_per_sample() as f32;
+        let step = |to: i32, from: i32| (to - from) as f32 * units;
+        let (right, left) = (step(east_h, h0), step(h0, west_h));
+        let (up, down) = (step(north_h, h0), step(h0, south_h));
+        let outside = |edge_inside: bool, sq: f32| if edge_inside { sq } else { f32::INFINITY };
+        let sq1 = |d: f32| d * d + 1.0;
+        Self::raw_vertex_normal(
+            [right, left],
+            [up, down],
+            [
+                outside(x + 1 < self.width, sq1(right)),
+                outside(x > 0, sq1(left)),
+            ],
+            [
+                outside(z + 1 < self.depth, up * up),
+                outside(z > 0, down * down),
+            ],
+        )
+    }
+
+    /// The raw samples of vertex `(x, z)` and its neighbours, each clamped
+    /// to the grid: `[west, (x, z), east, south, north]`.
+    #[inline(always)]
+    fn cross<T: Copy + Into<i32>>(&self, samples: &[T], x: u32, z: u32) -> [i32; 5] {
+        let w = self.width as usize;
+        // Grid row z is image row depth − 1 − z: north (z + 1) is one image
+        // row back, south one on. A neighbour past the edge is the vertex.
+        let at = (self.depth - 1 - z) as usize * w + x as usize;
+        let west = at - usize::from(x > 0);
+        let east = at + usize::from(x + 1 < self.width);
+        let north = at - if z + 1 < self.depth { w } else { 0 };
+        let south = at + if z > 0 { w } else { 0 };
+        [west, at, east, south, north].map(|i| samples[i].into())
     }
 
     /// The normals of cell `(x, z)`'s vertices `(x, z)`, `(x + 1, z)`,
@@ -1111,11 +1333,24 @@ impl<'a> HeightField<'a> {
     #[inline(always)]
     fn vertex_normal_world(
         &self,
+        du: [f32; 2],
+        dv: [f32; 2],
+        du_sq1: [f32; 2],
+        dv_sq: [f32; 2],
+    ) -> Vec3 {
+        self.raw_normal_to_world(Self::raw_vertex_normal(du, dv, du_sq1, dv_sq))
+    }
+
+    /// A vertex normal as POV-Ray stores it (raw field space, quantised to
+    /// `i16` steps), from the vertex's height steps to the right and left
+    /// (`du`) and up and down (`dv`), with `du² + 1` and `dv²` of each.
+    #[inline(always)]
+    fn raw_vertex_normal(
         [right, left]: [f32; 2],
         [up, down]: [f32; 2],
         [right_sq1, left_sq1]: [f32; 2],
         [up_sq, down_sq]: [f32; 2],
-    ) -> Vec3 {
+    ) -> [i32; 3] {
         let rcp = |du_sq1: f32, dv_sq: f32| 1.0 / crate::math::sqrtf(du_sq1 + dv_sq);
         // POV-Ray's order: (+u, +v), (−u, +v), (−u, −v), (+u, −v).
         let r1 = rcp(right_sq1, up_sq);
@@ -1135,9 +1370,15 @@ impl<'a> HeightField<'a> {
         // C's (short) conversion truncates towards zero. `32767 · c` is
         // within ±32767.01 (`n` is unit), where `as i32` truncates the same
         // and is one instruction on ARM (`as i16` adds its saturation).
-        let q = |c: f32| (32767.0 * c) as i32 as f32;
+        [n.x, n.y, n.z].map(|c| (32767.0 * c) as i32)
+    }
+
+    /// A raw vertex normal ([`raw_vertex_normal`](Self::raw_vertex_normal))
+    /// carried to world space and normalised.
+    #[inline(always)]
+    fn raw_normal_to_world(&self, [x, y, z]: [i32; 3]) -> Vec3 {
         // Raw → grid space scales y by 1/65536; normals take the inverse.
-        self.grid_normal_to_world(Vec3::new(q(n.x), q(n.y) * 65536.0, q(n.z)))
+        self.grid_normal_to_world(Vec3::new(x as f32, y as f32 * 65536.0, z as f32))
     }
 
     /// The raw samples around cell `(x, z)`: `[j][i]` is vertex
@@ -1287,6 +1528,90 @@ impl WalkGrid for HeightField<'_> {
     }
 }
 
+/// Vertex normals kept for [`HeightField::smooth_normal_cached`], two
+/// to a grid column: slot `x mod 128` (`x mod 16` in a `compact` build)
+/// holds the normals of vertices
+/// `(x, z)` and `(x, z + 1)` of one field, the left or right edge of the
+/// last cell hit in that column.
+///
+/// A hit needs its cell's four vertex normals, six square roots and six
+/// divisions each; neighbouring hits share vertices. Measured on the
+/// firmware's `lcd` frame (9,615 smooth hits, row by row): without a cache
+/// every hit computes 4 vertex normals; with this one 1.96 (a slot per
+/// vertex, 256 of them, also 1.96; an unbounded cache 1.69: most vertices
+/// are seen by one or two hits). A row of hits walks along the columns, and
+/// a column's next cell is usually the same or one row off, which keeps one
+/// of its two normals.
+///
+/// Interior mutability (`Cell`), so the tracer that holds one stays
+/// shared (`&self`) while it traces; it is not `Sync`, and a render keeps
+/// one per tracer. Slots of 32 bytes: [`COLUMNS`](Self::COLUMNS).
+#[derive(Debug, Clone)]
+pub(crate) struct VertexNormalCache {
+    columns: [Cell<CachedColumn>; VertexNormalCache::COLUMNS],
+}
+
+/// One slot: the world normals of vertices `(x, z)` and `(x, z + 1)` of
+/// field `field`.
+#[derive(Debug, Clone, Copy)]
+struct CachedColumn {
+    /// `x` in the low 20 bits ([`MAX_SIDE`]), the field above; `u32::MAX`
+    /// (no vertex's: `x < 2^20 − 1` or `field < 4095`) in an empty slot.
+    x_field: u32,
+    z: u32,
+    normals: [[f32; 3]; 2],
+}
+
+impl VertexNormalCache {
+    /// 128 columns (4 KiB); 16 (512 bytes) in a `compact` build, for the
+    /// Cortex-M0's 16 KiB of RAM, where the tracer (with its cache) is on
+    /// the stack twice while it is made.
+    const COLUMNS: usize = if cfg!(feature = "compact") { 16 } else { 128 };
+
+    pub(crate) const fn new() -> Self {
+        const EMPTY: CachedColumn = CachedColumn {
+            x_field: u32::MAX,
+            z: 0,
+            normals: [[0.0; 3]; 2],
+        };
+        VertexNormalCache {
+            columns: [const { Cell::new(EMPTY) }; VertexNormalCache::COLUMNS],
+        }
+    }
+
+    /// The normals of vertices `(x, z)` and `(x, z + 1)` of field `field`:
+    /// the cached ones, or `vertex(x, z)`'s and `vertex(x, z + 1)`'s
+    /// (computing only the one not kept), kept. Fields from the 4,095th on
+    /// are not cached.
+    #[inline(always)]
+    fn column(&self, field: usize, x: u32, z: u32, vertex: impl Fn(u32, u32) -> Vec3) -> [Vec3; 2] {
+        if field >= (1 << 12) - 1 {
+            return [vertex(x, z), vertex(x, z + 1)];
+        }
+        let x_field = x | (field as u32) << 20;
+        let slot = &self.columns[x as usize % Self::COLUMNS];
+        let c = slot.get();
+        let [low, high] = c.normals.map(Vec3::from_array);
+        let normals = if c.x_field != x_field {
+            [vertex(x, z), vertex(x, z + 1)]
+        } else if c.z == z {
+            return [low, high];
+        } else if c.z == z.wrapping_sub(1) {
+            [high, vertex(x, z + 1)]
+        } else if c.z == z + 1 {
+            [vertex(x, z), low]
+        } else {
+            [vertex(x, z), vertex(x, z + 1)]
+        };
+        slot.set(CachedColumn {
+            x_field,
+            z,
+            normals: normals.map(|n| n.to_array()),
+        });
+        normals
+    }
+}
+
 trait IntoU32Pair {
     fn into_u32(self) -> (u32, u32);
 }
@@ -1343,6 +1668,22 @@ mod tests {
     }
 
     #[test]
+    fn raw_normal_tables_must_fit() {
+        let samples = [0u8, 9, 200, 255];
+        let field = HeightField::new(Samples::U8(&samples), 2, 2, HeightConvention::Gray8).unwrap();
+        assert_eq!(field.raw_normals_bytes(), 24);
+        let short = HeightFieldError::RawNormals {
+            expected: 24,
+            actual: 23,
+        };
+        assert_eq!(field.write_raw_normals(&mut [0; 23]), Err(short));
+        assert_eq!(field.clone().with_raw_normals(&[0; 23]).err(), Some(short));
+        let mut table = [0u8; 24];
+        field.write_raw_normals(&mut table).unwrap();
+        assert!(field.with_raw_normals(&table).is_ok());
+    }
+
+    #[test]
     fn smooth_normal_shares_work_bit_for_bit() {
         let mut rng = 0x5eed_u64;
         let u8s: [u8; 9 * 7] = core::array::from_fn(|_| lcg(&mut rng) as u8);
@@ -1365,7 +1706,17 @@ mod tests {
             HeightField::new(Samples::U8(&u8s[..4]), 2, 2, HeightConvention::Gray8).unwrap(),
         ];
         let mut checked = 0;
-        for field in &fields {
+        // One cache for all the fields (told apart by their index), kept
+        // warm across the loop; its answers must be the same bits.
+        let cache = VertexNormalCache::new();
+        let mut tables = [[0u8; 9 * 9 * 6]; 5];
+        for (field, table) in fields.iter().zip(&mut tables) {
+            let table = &mut table[..field.raw_normals_bytes()];
+            field.write_raw_normals(table).unwrap();
+        }
+        for (index, field) in fields.iter().enumerate() {
+            let table = &tables[index][..field.raw_normals_bytes()];
+            let tabled = field.clone().with_raw_normals(table).unwrap();
             for z in 0..field.depth() - 1 {
                 for x in 0..field.width() - 1 {
                     for k in 0..6 {
@@ -1385,15 +1736,20 @@ mod tests {
                             local: (fu, fv),
                             normal: Vec3::Y,
                         };
-                        let (got, want) = (
+                        let want = smooth_normal_one_vertex_at_a_time(field, &hit);
+                        for got in [
                             field.smooth_normal(&hit),
-                            smooth_normal_one_vertex_at_a_time(field, &hit),
-                        );
-                        assert_eq!(
-                            got.to_array().map(f32::to_bits),
-                            want.to_array().map(f32::to_bits),
-                            "cell ({x}, {z}) at ({fu}, {fv}): {got:?} vs {want:?}"
-                        );
+                            field.smooth_normal_cached(&hit, index, &cache),
+                            field.smooth_normal_cached(&hit, 0, &VertexNormalCache::new()),
+                            tabled.smooth_normal(&hit),
+                            tabled.smooth_normal_cached(&hit, 0, &VertexNormalCache::new()),
+                        ] {
+                            assert_eq!(
+                                got.to_array().map(f32::to_bits),
+                                want.to_array().map(f32::to_bits),
+                                "cell ({x}, {z}) at ({fu}, {fv}): {got:?} vs {want:?}"
+                            );
+                        }
                         checked += 1;
                     }
                 }

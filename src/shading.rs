@@ -80,7 +80,7 @@ use heapless::Vec;
 
 use crate::camera::{CameraPacket, CameraRay};
 use crate::cell::Corners;
-use crate::heightfield::{ColumnHint, HeightField};
+use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
 use crate::packet::LANES;
 use crate::ray::Ray;
 use crate::real::Real;
@@ -214,6 +214,9 @@ pub struct Tracer<'a, const OBJECTS: usize> {
     ambient_light: Vec3,
     max_trace_level: u32,
     any_transparent: bool,
+    /// Smooth fields' vertex normals, kept from hit to hit (neighbouring
+    /// hits share vertices; the same normals as without).
+    normals: VertexNormalCache,
 }
 
 /// A pigment evaluated at a point.
@@ -329,6 +332,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             ambient_light: scene.settings.ambient_light,
             max_trace_level: scene.settings.max_trace_level,
             any_transparent,
+            normals: VertexNormalCache::new(),
         })
     }
 
@@ -731,7 +735,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         // Normals: each flipped by its own dot with the ray, as POV-Ray.
         let geometric = hit.normal;
         let mut n = match field {
-            Some(fh) if obj.smooth => self.fields[obj.field_index].smooth_normal(fh),
+            Some(fh) if obj.smooth => self.fields[obj.field_index].smooth_normal_cached(
+                fh,
+                obj.field_index,
+                &self.normals,
+            ),
             _ => geometric,
         };
         if n.dot(d) > 0.0 {

@@ -4,7 +4,10 @@
 //! field's skip pyramid (3.8 KB, a quarter of the micro:bit's RAM) and, on
 //! the Cortex-M4F board, the `thesis` scene's 512 × 512 field (256 KiB,
 //! made by `hfray::generate::plasma` exactly as the i486 program and the
-//! host make it at run time) and its pyramid (34 KB).
+//! host make it at run time) and its pyramid (34 KB), and the `lcd`
+//! field's smooth-shading vertex normals (170 KB,
+//! `HeightField::write_raw_normals`; the others compute them as hits need
+//! them, to the same bits).
 use std::{env, fs, path::Path, path::PathBuf};
 
 use hfray::{HeightConvention, HeightField, Samples, SkipGrid};
@@ -15,6 +18,7 @@ include!("src/generated.rs");
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(hfray_thesis_in_flash)");
+    println!("cargo::rustc-check-cfg=cfg(hfray_lcd_normals_in_flash)");
     for f in [
         "memory-microbit.x",
         "memory-mps2-an386.x",
@@ -55,6 +59,19 @@ fn main() {
         let side = (THESIS_SIDE, THESIS_SIDE);
         write_pyramid(&field, side, &out.join("thesis_pyramid.bin"));
         println!("cargo:rustc-cfg=hfray_thesis_in_flash");
+        // The `lcd` field's smooth-shading vertex normals (170 KB; the
+        // micro:bit draws the fixed-point frame, which does not read them).
+        let lcd = HeightField::new(
+            Samples::U8(&LCD_FIELD_SAMPLES),
+            LCD_FIELD_WIDTH,
+            LCD_FIELD_DEPTH,
+            HeightConvention::Gray8,
+        )
+        .expect("field");
+        let mut normals = vec![0u8; lcd.raw_normals_bytes()];
+        lcd.write_raw_normals(&mut normals).expect("normals");
+        fs::write(out.join("lcd_normals.bin"), &normals).unwrap();
+        println!("cargo:rustc-cfg=hfray_lcd_normals_in_flash");
     }
 }
 

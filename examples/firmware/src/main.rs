@@ -254,6 +254,13 @@ fn main() -> ! {
     // laid out once in main's frame.
     let field = source
         .and_then(|(samples, size, pyramid)| scene::build_field(&model, samples, size, pyramid));
+    // On the Cortex-M4F the `lcd` field's vertex normals come from flash
+    // (build.rs): the same normals, not computed per hit.
+    #[cfg(hfray_lcd_normals_in_flash)]
+    let field = field.and_then(|f| match kind {
+        scene::FrameKind::Lcd => Ok(f.with_raw_normals(&LCD_NORMALS)?),
+        _ => Ok(f),
+    });
     let fields = match field {
         Ok(f) => [f],
         Err(e) => fail_because(&mut out, &["field:", scene::scene_error_name(&e)]),
@@ -327,6 +334,13 @@ fn main() -> ! {
 /// instead of RAM).
 static LCD_PYRAMID: [u8; scene::LCD_SKIP_BYTES] =
     *include_bytes!(concat!(env!("OUT_DIR"), "/lcd_pyramid.bin"));
+
+/// The `lcd` field's smooth-shading vertex normals, written by `build.rs`
+/// (`HeightField::write_raw_normals`: 6 bytes a vertex, 170 KB of flash),
+/// where the board has room.
+#[cfg(hfray_lcd_normals_in_flash)]
+static LCD_NORMALS: [u8; scene::LCD_FIELD_WIDTH as usize * scene::LCD_FIELD_DEPTH as usize * 6] =
+    *include_bytes!(concat!(env!("OUT_DIR"), "/lcd_normals.bin"));
 
 /// The `thesis` field and its pyramid in flash, where the board has room:
 /// generated at build time by `build.rs` with `scene::thesis_field`

@@ -75,7 +75,7 @@ static mut LINE: [hfray::Rgb888; scene::THESIS_WIDTH] =
     [hfray::Rgb888([0; 3]); scene::THESIS_WIDTH];
 
 /// Bytes of stack painted below the entry stack pointer.
-const PAINT_BYTES: usize = 16 * 1024;
+const PAINT_BYTES: usize = 32 * 1024;
 const PAINT: u32 = 0xCCCC_CCCC;
 
 // Entry point. The kernel leaves argc/argv/envp at esp; we need none of them.
