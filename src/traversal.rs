@@ -194,7 +194,7 @@ fn slab<S: Real>(o: S, axis: &Axis<S>, lo: S, hi: S, t: &mut (S, S)) -> bool {
 /// inside `0..=last_vertex`).
 #[inline(always)]
 pub(crate) fn first_cell<S: Real>(p: S, step: i32, cells: i32) -> i32 {
-    let mut i = p.floor_i32();
+    let mut i = p.floor_nonneg_i32();
     if step < 0 && S::from_i32(i) == p {
         i -= 1;
     }
