@@ -70,6 +70,13 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// `floor(self)` as an integer, saturating at the `i32` range.
     fn floor_i32(self) -> i32;
+    /// [`floor_i32`](Self::floor_i32) of a value that is not negative (or
+    /// NaN): floats truncate (the same integer there, without the step
+    /// down `floor_i32` checks for).
+    #[inline]
+    fn floor_nonneg_i32(self) -> i32 {
+        self.floor_i32()
+    }
     /// `true` unless NaN or infinite.
     fn is_finite(self) -> bool;
     /// `units / 65536`: a height in the units the field stores. Exact for
@@ -195,6 +202,12 @@ impl Real for f32 {
         self as f64
     }
     #[inline]
+    fn floor_nonneg_i32(self) -> i32 {
+        // Truncation is the floor for `self ≥ 0`; `as` saturates, NaN
+        // gives 0, as in `floor_i32`.
+        self as i32
+    }
+    #[inline]
     fn floor_i32(self) -> i32 {
         // `floorf(self) as i32` without the libm call: truncate, then step
         // down if that rounded up. Same result for every input (the cast
@@ -269,6 +282,12 @@ impl Real for f64 {
     #[inline]
     fn to_f64(self) -> f64 {
         self
+    }
+    #[inline]
+    fn floor_nonneg_i32(self) -> i32 {
+        // Truncation is the floor for `self ≥ 0`; `as` saturates, NaN
+        // gives 0, as in `floor_i32`.
+        self as i32
     }
     #[inline]
     fn floor_i32(self) -> i32 {

@@ -1007,8 +1007,9 @@ fn starts_on_side(field: &HeightField<'_>, origin: Vec3, dir: Vec3, side: f32) -
     if !(u >= 0.0 && v >= 0.0 && u <= cells_u as f32 && v <= cells_v as f32 && y_finite) {
         return true;
     }
+    // `p ≥ 0` (checked above): `floor_nonneg_i32` is its floor.
     let first = |p: f32, d: f32, cells: i32| {
-        let mut i = p.floor_i32();
+        let mut i = p.floor_nonneg_i32();
         if d < 0.0 && i as f32 == p {
             i -= 1;
         }
