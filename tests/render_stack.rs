@@ -136,13 +136,16 @@ fn max_trace_level_60_needs_no_more_stack() {
 #[test]
 fn tracer_size_is_bounded_by_the_object_capacity() {
     // Everything the renderer keeps per render, apart from the caller's
-    // line buffer: the prepared objects (fixed capacity) and a few
-    // pointers. Printed for memory-budget.md.
+    // line buffer: the prepared objects (fixed capacity), a few pointers
+    // and the smooth-normal vertex cache (4 KiB; 512 bytes with the
+    // `compact` feature: 64 columns instead of 128 cost rmnp_gradient.pov
+    // 26 instructions a ray, 2,172 against 2,146). Printed for
+    // memory-budget.md.
     let one = hfray::Tracer::<1>::SIZE;
     let eight = hfray::Tracer::<8>::SIZE;
     let per_object = (eight - one) / 7;
     println!("Tracer<1> = {one} B, Tracer<8> = {eight} B, {per_object} B per object");
     assert!(per_object <= 320, "{per_object}");
     let default_capacity = hfray::Tracer::<32>::SIZE;
-    assert!(default_capacity < 12 * 1024, "{default_capacity}");
+    assert!(default_capacity < 13 * 1024, "{default_capacity}");
 }
