@@ -625,7 +625,6 @@ impl<'a> HeightField<'a> {
                 Some(self.finish_hit(ray, &hit))
             }
             #[cfg(feature = "f64-walk")]
-            #[cfg(feature = "f64-walk")]
             Numeric::F64 => self.intersect_as::<f64>(ray, t_min, t_max, false, counters),
             #[cfg(feature = "fixed")]
             Numeric::Q16 => {
@@ -669,14 +668,7 @@ impl<'a> HeightField<'a> {
         t_max: f32,
         counters: &mut Counters,
     ) -> [Option<FieldHit>; LANES] {
-        // The other numeric paths, ray by ray.
-        if !matches!(self.numeric, Numeric::F32) {
-            return core::array::from_fn(|l| {
-                self.intersect_counted(&rays.ray(l), t_min, t_max, counters)
-            });
-        }
-        let hits = self.grid_hits_packet(rays, t_min, t_max, None, counters);
-        core::array::from_fn(|l| Some(self.finish_hit(&rays.ray(l), hits[l].as_ref()?)))
+        self.packet_hits(rays, t_min, t_max, None, counters)
     }
 
     /// [`intersect_coherent`](Self::intersect_coherent) for each of `rays`
@@ -691,16 +683,19 @@ impl<'a> HeightField<'a> {
         hints: [&mut ColumnHint; LANES],
         counters: &mut Counters,
     ) -> [Option<FieldHit>; LANES] {
-        // The other numeric paths, ray by ray.
-        if !matches!(self.numeric, Numeric::F32) {
-            let mut lanes = hints.into_iter().enumerate();
-            return core::array::from_fn(|_| {
-                let (l, hint) = lanes.next()?;
-                self.intersect_coherent(&rays.ray(l), t_min, t_max, hint, counters)
-            });
-        }
-        let hits = self.grid_hits_coherent(rays, t_min, t_max, hints, counters);
-        core::array::from_fn(|l| Some(self.finish_hit(&rays.ray(l), hits[l].as_ref()?)))
+        self.packet_hits(rays, t_min, t_max, Some(hints), counters)
+    }
+
+    /// [`intersect_t`](Self::intersect_t) for each of `rays`, as
+    /// [`intersect_packet`](Self::intersect_packet).
+    pub fn intersect_t_packet(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> [Option<f32>; LANES] {
+        self.packet_ts(rays, t_min, t_max, None, counters)
     }
 
     /// [`intersect_coherent_packet`](Self::intersect_coherent_packet)'s `t`s.
@@ -712,13 +707,71 @@ impl<'a> HeightField<'a> {
         hints: [&mut ColumnHint; LANES],
         counters: &mut Counters,
     ) -> [Option<f32>; LANES] {
+        self.packet_ts(rays, t_min, t_max, Some(hints), counters)
+    }
+
+    /// The packet entries' hits: walked as a packet in `f32`, coherently
+    /// with `hints`; the other numeric paths ray by ray.
+    #[inline(always)]
+    fn packet_hits(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        hints: Option<[&mut ColumnHint; LANES]>,
+        counters: &mut Counters,
+    ) -> [Option<FieldHit>; LANES] {
         if !matches!(self.numeric, Numeric::F32) {
+            let mut hints = hints.map(|h| h.into_iter());
+            return core::array::from_fn(|l| match hints.as_mut() {
+                Some(lanes) => {
+                    let hint = lanes.next()?;
+                    self.intersect_coherent(&rays.ray(l), t_min, t_max, hint, counters)
+                }
+                None => self.intersect_counted(&rays.ray(l), t_min, t_max, counters),
+            });
+        }
+        let hits = self.grid_hits(rays, t_min, t_max, hints, counters);
+        core::array::from_fn(|l| Some(self.finish_hit(&rays.ray(l), hits[l].as_ref()?)))
+    }
+
+    /// [`packet_hits`](Self::packet_hits)' `t`s, without completing the
+    /// hits where the walk gives `t` itself.
+    #[inline(always)]
+    fn packet_ts(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        hints: Option<[&mut ColumnHint; LANES]>,
+        counters: &mut Counters,
+    ) -> [Option<f32>; LANES] {
+        if !matches!(self.numeric, Numeric::F32) {
+            // The normalised paths map `t` back in the completed hit.
             return self
-                .intersect_coherent_packet(rays, t_min, t_max, hints, counters)
+                .packet_hits(rays, t_min, t_max, hints, counters)
                 .map(|h| Some(h?.t));
         }
-        self.grid_hits_coherent(rays, t_min, t_max, hints, counters)
+        self.grid_hits(rays, t_min, t_max, hints, counters)
             .map(|h| Some(h?.t))
+    }
+
+    /// The grid hits of `rays` walked in `f32`, as
+    /// [`intersect_in`](Self::intersect_in) finds them one by one, or
+    /// coherently with `hints`.
+    #[inline(always)]
+    fn grid_hits(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        hints: Option<[&mut ColumnHint; LANES]>,
+        counters: &mut Counters,
+    ) -> [Option<GridHit<f32>>; LANES] {
+        match hints {
+            Some(hints) => self.grid_hits_coherent(rays, t_min, t_max, hints, counters),
+            None => self.grid_hits_packet(rays, t_min, t_max, None, counters),
+        }
     }
 
     /// The grid hits of `rays` walked coherently in `f32`, each lane with
@@ -744,24 +797,6 @@ impl<'a> HeightField<'a> {
             hint.field = key;
         }
         hits
-    }
-
-    /// [`intersect_t`](Self::intersect_t) for each of `rays`, as
-    /// [`intersect_packet`](Self::intersect_packet).
-    pub fn intersect_t_packet(
-        &self,
-        rays: &RayPacket,
-        t_min: f32,
-        t_max: f32,
-        counters: &mut Counters,
-    ) -> [Option<f32>; LANES] {
-        if !matches!(self.numeric, Numeric::F32) {
-            return core::array::from_fn(|l| {
-                self.intersect_t(&rays.ray(l), t_min, t_max, counters)
-            });
-        }
-        self.grid_hits_packet(rays, t_min, t_max, None, counters)
-            .map(|h| Some(h?.t))
     }
 
     /// The grid hits of `rays` walked in `f32`, as
