@@ -39,15 +39,16 @@
 //! (`level_rmnp.pov`) shares more (60 % of its block passes), but that is
 //! the view column coherence already serves.
 
-use glam::Vec3;
+use glam::{BVec4A, Vec3, Vec4};
 
 use crate::math::sqrtf;
 use crate::ray::Ray;
 use crate::real::Real;
+use crate::skip::SkipGrid;
 use crate::transform::GridTransform;
 use crate::traversal::{
-    first_cell, nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, Walk,
-    WalkGrid,
+    first_cell, nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay,
+    Traversal, Walk, WalkGrid,
 };
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
@@ -229,6 +230,26 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     let i: [i32; LANES] = lanes(|l| first_cell(entry(0, last_u, l), step(0, l), cells_u));
     let j: [i32; LANES] = lanes(|l| first_cell(entry(2, last_v, l), step(2, l), cells_v));
 
+    let walked: [bool; LANES] = lanes(|l| covered[l] && t_near[l] <= t_far[l]);
+    let shared = match (columns.is_none(), field.traversal(), field.skip()) {
+        (true, Traversal::Hierarchy, Some(skip)) => [0, 4].map(|q| {
+            let quad = |v: &[i32; LANES]| core::array::from_fn(|l| v[q + l]);
+            let walked = core::array::from_fn(|l| walked[q + l]);
+            let t_far = Vec4::from_slice(&t_far[q..q + 4]);
+            shared_start(
+                field,
+                skip,
+                rays,
+                &inv,
+                walked,
+                [quad(&i), quad(&j)],
+                t_far,
+                q,
+            )
+        }),
+        _ => [None, None],
+    };
+
     for l in 0..LANES {
         if !covered[l] {
             continue;
@@ -263,8 +284,207 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
             Some((previous, column)) => walk.walk_in_column(
                 field, &previous, column, t_min, t_max, i[l], j[l], t_near[l], counters,
             ),
-            None => walk.walk_from_entry(field, i[l], j[l], t_near[l], counters),
+            None => match shared[l / 4] {
+                Some(s) => {
+                    walk.walk_from_line(field, i[l], j[l], t_near[l], s.along_u, s.line, counters)
+                }
+                None => walk.walk_from_entry(field, i[l], j[l], t_near[l], counters),
+            },
         };
     }
     hits
+}
+
+/// A grid line before which no lane of a packet hits the field (see
+/// [`shared_start`]).
+#[derive(Clone, Copy)]
+struct SharedStart {
+    along_u: bool,
+    line: i32,
+}
+
+/// The most blocks of one level a step of [`shared_start`] looks up
+/// across the packet's footprint; a wider footprint is not culled.
+const MAX_ACROSS: i32 = 4;
+
+/// A grid line, along `u` or `v`, before which the flat walk of each of
+/// the four lanes `quad..quad + 4` that are `walked` culls every cell:
+/// those lanes may start there (`Walk::walk_from_line`, which also
+/// checks the conditions below that are the lane's own). `None` when no
+/// line past the first is found.
+///
+/// The lanes step together from line to line along an axis on which each
+/// of them moves the same way, block by block of the skip pyramid
+/// (coarsest first, finer where a step is not culled, coarser again at the
+/// coarser block's edge), and a step from line `k` to line `k'` is culled
+/// when every lane there is above every block of this level that its cells
+/// between the lines can be in. Why that is the flat walk's cull of each of
+/// those cells:
+/// - *When.* The flat walk visits a cell of column `c` at parameters
+///   between those of the lines that bound the column (it enters a column
+///   exactly at its near line's parameter and leaves it at its far line's;
+///   for the first cell `Walk::walk_from_line` checks it), so between `t(k)`
+///   and `t(k')` for a column between `k` and `k'`. A lane's `t(k)` here is
+///   `(k − o)·inv`, the walk's own boundary parameter.
+/// - *How high.* The walk's `y` at a parameter, `o_y + t·d_y`, is computed
+///   here the same way; it is monotone in `t` (each rounding is), so at
+///   every parameter between the lines it is at least the smaller of the
+///   lane's `y` at `t(k)` and `t(k')`. Above the blocks' highest sample, it
+///   is above the cell's highest corner: the walk culls the cell.
+/// - *Which rows.* The lane's exact coordinate across is linear in `t` and
+///   within `u·(|t·d| + |b|)` of the `b = o + t·d` computed at the lines
+///   (`u = 2^-24`), and the walk's row at a parameter is within
+///   `3u·|row − o|` of the exact coordinate (its boundary parameters are
+///   within three roundings of exact; the first row, taken from the entry
+///   point, within the error of `b`). With `ε` eight times those bounds'
+///   sum over the lanes, the rows `⌊min b − ε⌋ ..= ⌊max b + ε⌋` hold every
+///   cell a lane visits between the lines.
+///
+/// The first line is the near line of the lanes' first column; the walks
+/// end where the last culled step ends past each lane's `t_far`, or past
+/// the field.
+#[allow(clippy::too_many_arguments)]
+fn shared_start<F: WalkGrid>(
+    field: &F,
+    skip: &SkipGrid<'_>,
+    rays: &RayPacket,
+    inv: &[Lanes; 3],
+    walked: [bool; 4],
+    first: [[i32; 4]; 2],
+    t_far: Vec4,
+    quad: usize,
+) -> Option<SharedStart> {
+    let lead = walked.iter().position(|&w| w)?;
+    // Lanes that are not walked take the lead lane's ray: the bound is the
+    // same, and the lane-wise steps below need no masks.
+    let mask = BVec4A::from_array(walked);
+    let fill = |v: &Lanes| -> Vec4 {
+        let v = Vec4::from_slice(&v[quad..quad + 4]);
+        Vec4::select(mask, v, Vec4::splat(v[lead]))
+    };
+    let (o, d) = (&rays.origin, &rays.direction);
+    let (d_u, d_v) = (fill(&d[0]), fill(&d[2]));
+    // The axis: every lane moving along it the same way; of two, the one
+    // the rays move along faster (shorter steps in `t`).
+    let way = |d: Vec4| {
+        if d.cmpgt(Vec4::ZERO).all() {
+            1
+        } else if d.cmplt(Vec4::ZERO).all() {
+            -1
+        } else {
+            0
+        }
+    };
+    let (way_u, way_v) = (way(d_u), way(d_v));
+    let along_u = match (way_u, way_v) {
+        (0, 0) => return None,
+        (_, 0) => true,
+        (0, _) => false,
+        _ => Real::abs(d_u[lead]) >= Real::abs(d_v[lead]),
+    };
+    let (a, b, step) = if along_u {
+        (0, 2, way_u)
+    } else {
+        (2, 0, way_v)
+    };
+    // The lanes' rays, component by component, along and across the axis.
+    let (o_a, inv_a) = (fill(&o[a]), fill(&inv[a]));
+    let (o_b, d_b) = (fill(&o[b]), if along_u { d_v } else { d_u });
+    let (o_y, d_y) = (fill(&o[1]), fill(&d[1]));
+    let t_far = Vec4::select(mask, t_far, Vec4::splat(t_far[lead]));
+    let cells_u = field.width() as i32 - 1;
+    let cells_v = field.depth() as i32 - 1;
+    let (cells_a, cells_b) = if along_u {
+        (cells_u, cells_v)
+    } else {
+        (cells_v, cells_u)
+    };
+    // `ε` less its part that grows with `|b|` (see above).
+    let slack = 2.0 * o_b.abs().max_element() + cells_b as f32 + 2.0;
+    // The near line of the lanes' first column (in the walk's order).
+    let firsts = (0..4)
+        .filter(|&l| walked[l])
+        .map(|l| first[!along_u as usize][l]);
+    let mut k = if step > 0 {
+        firsts.min()?
+    } else {
+        firsts.max()? + 1
+    };
+    let start = k;
+    // At line `k`: whether every lane has ended there, the lanes' lowest
+    // `y` and the range of their coordinates across.
+    let at = |k: i32| -> (bool, [f32; 3]) {
+        let t = (Vec4::splat(k as f32) - o_a) * inv_a;
+        let across = o_b + t * d_b;
+        let y = o_y + t * d_y;
+        let ended = t.cmpge(t_far).all();
+        (
+            ended,
+            [y.min_element(), across.min_element(), across.max_element()],
+        )
+    };
+    let log2 = skip.block_log2() as u32;
+    let top = skip.levels() as u32;
+    let mult = field.units_per_sample();
+    let last_row = (cells_b - 1) as f32;
+    let mut level = top;
+    let mut here = at(k).1;
+    let passes = (cells_a as u32 + 2) * (top + 1);
+    for _ in 0..passes {
+        let shift = log2 * level;
+        let next = if step > 0 {
+            ((k >> shift) + 1) << shift
+        } else {
+            ((k - 1) >> shift) << shift
+        };
+        let (ended, there) = at(next);
+        let low = Real::min(here[0], there[0]);
+        let (lo, hi) = (Real::min(here[1], there[1]), Real::max(here[2], there[2]));
+        let eps = (Real::max(-lo, hi) + slack) * (1.0 / (1u32 << 21) as f32);
+        let (lo, hi) = (lo - eps, hi + eps);
+        // The columns between the lines (in one block of this level) and
+        // the rows the lanes may be in, within the field (none when the
+        // lanes are past its side; a NaN range is not culled).
+        let (col_lo, col_hi) = if step > 0 {
+            (k, next - 1)
+        } else {
+            (next, k - 1)
+        };
+        let (col_lo, col_hi) = (col_lo.max(0), col_hi.min(cells_a - 1));
+        let row_lo = Real::max(lo, 0.0) as i32;
+        let row_hi = if hi >= 0.0 {
+            Real::min(hi, last_row) as i32
+        } else {
+            -1
+        };
+        let culled = !(lo.is_nan() || hi.is_nan())
+            && (col_lo > col_hi || row_lo > row_hi || {
+                let (b_lo, b_hi) = (row_lo >> shift, row_hi >> shift);
+                b_hi - b_lo < MAX_ACROSS && {
+                    let column = (col_lo >> shift) as u32;
+                    let mut highest = 0;
+                    for r in b_lo as u32..=b_hi as u32 {
+                        let (bi, bj) = if along_u { (column, r) } else { (r, column) };
+                        highest = highest.max(skip.walk_bounds(level, bi, bj).1);
+                    }
+                    low > f32::from_raw_height(highest, mult)
+                }
+            });
+        if culled {
+            k = next;
+            here = there;
+            let past_field = if step > 0 { k >= cells_a } else { k <= 0 };
+            if past_field || ended {
+                return Some(SharedStart { along_u, line: k });
+            }
+            if level < top && k & ((1 << (shift + log2)) - 1) == 0 {
+                level += 1;
+            }
+        } else if level > 1 {
+            level -= 1;
+        } else {
+            return (k != start).then_some(SharedStart { along_u, line: k });
+        }
+    }
+    None
 }

@@ -281,9 +281,11 @@ pub(crate) struct Walk<S> {
     /// `v` boundaries are strictly monotone: blocks are left by the v-major
     /// rule of [`block_exit`] (else by the u-major one).
     v_strict: bool,
-    /// The hierarchical walk starts with cells, not with the coarsest
-    /// blocks (see [`nearest`]).
-    start_in_cells: bool,
+    /// The level the hierarchical walk starts at, at most the pyramid's
+    /// top: 0 (cells) for shadow rays (see [`nearest`]), the top for other
+    /// rays, 1 where a packet found the coarser blocks culled
+    /// ([`Walk::walk_from_line`]).
+    start_level: u32,
 }
 
 /// What one cell visit found.
@@ -655,7 +657,7 @@ impl<S: Real> Walk<S> {
         let mut exact = true;
         let mut side = Exit::U;
         // Visiting cells skips none, so the walk may start at any level.
-        let mut level = if self.start_in_cells { 0 } else { top };
+        let mut level = self.start_level.min(top);
         // Every iteration of the loops below spends one pass of `passes`
         // (`hdda_passes`), and returns when none is left.
         let mut passes = max_passes;
@@ -1403,7 +1405,7 @@ impl<S: Real> Walk<S> {
             mult: field.units_per_sample(),
             wet: water_units != 0 || water > S::ZERO,
             v_strict: true,
-            start_in_cells: any,
+            start_level: if any { 0 } else { u32::MAX },
         }
     }
 
@@ -1423,6 +1425,94 @@ impl<S: Real> Walk<S> {
             t_a: t_near,
             entry: Place::Interior,
         };
+        self.walk_from(field, start, &mut None, counters)
+    }
+
+    /// [`walk_from_entry`](Self::walk_from_entry) for a ray whose flat walk
+    /// culls every cell it visits in the columns (rows, unless `along_u`)
+    /// before grid line `line`, when each of those cells is visited between
+    /// the parameters of the two lines that bound its column (see
+    /// `packet::shared_start`, which finds such lines): started at the cell
+    /// it enters across that line, as the flat walk enters it, at level 1
+    /// of the pyramid. From the entry instead when the ray does not cross
+    /// the line after `t_near`, when its boundary parameters are not
+    /// strictly monotone, or when its first cell is not entered between its
+    /// column's lines (rounding at the box's side); no hit when the line is
+    /// past `t_far`. Both axes move.
+    ///
+    /// Why the cursor is the flat walk's. With strictly monotone exit
+    /// parameters on both axes, the flat walk is, at any `t` of its range,
+    /// in the first column whose exit parameter is past `t` and the first
+    /// row whose exit parameter is past `t` (it leaves a column exactly at
+    /// that column's exit parameter, and never goes back). At `t_l`, the
+    /// parameter of `line`, that is the column beyond the line (whose
+    /// predecessor's exit parameter is `t_l` itself) and the row
+    /// [`first_exit_past`] finds; the cell was entered at `t_l`, across the
+    /// line, or at a vertex when the row before it is left at `t_l` too.
+    /// The walk may start at any level, and the packet culled the coarser
+    /// blocks before the line (its last step was of level 1).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn walk_from_line<F: WalkGrid>(
+        &mut self,
+        field: &F,
+        i: i32,
+        j: i32,
+        t_near: S,
+        along_u: bool,
+        line: i32,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        let (o, d) = (self.o, self.d);
+        let (au, av) = (self.au, self.av);
+        let strict = S::strict_boundaries(o[0], au.inv, 0, self.cells_u)
+            && S::strict_boundaries(o[2], av.inv, 0, self.cells_v);
+        let (axis_a, o_a, first) = if along_u {
+            (&au, o[0], i)
+        } else {
+            (&av, o[2], j)
+        };
+        // The first column's near and far lines (in the walk's order).
+        let near = axis_a.at_line::<true>(first + 1 - axis_a.off, o_a);
+        let far = axis_a.exit::<true>(first, o_a);
+        let t_line = axis_a.at_line::<true>(line, o_a);
+        let beyond = line - (axis_a.step < 0) as i32;
+        if !(strict && near <= t_near && t_near <= far && t_line > t_near) {
+            return self.walk_from_entry(field, i, j, t_near, counters);
+        }
+        if t_line >= self.t_far {
+            return None;
+        }
+        debug_assert!((beyond - first) * axis_a.step > 0);
+        let (axis_b, o_b, d_b, first_b, cells_b) = if along_u {
+            (&av, o[2], d[2], j, self.cells_v)
+        } else {
+            (&au, o[0], d[0], i, self.cells_u)
+        };
+        let last_b = if axis_b.step > 0 { cells_b - 1 } else { 0 };
+        let guess = (o_b + t_line * d_b).floor_i32();
+        let (row, _, before) = first_exit_past(axis_b, o_b, t_line, first_b, last_b, guess);
+        let corner = row != first_b
+            && before.unwrap_or_else(|| axis_b.exit::<true>(row - axis_b.step, o_b)) == t_line;
+        let entry = if corner {
+            Place::Vertex(au.step < 0, av.step < 0)
+        } else if along_u {
+            Place::EdgeU(au.step < 0)
+        } else {
+            Place::EdgeV(av.step < 0)
+        };
+        let (i, j) = if along_u {
+            (beyond, row)
+        } else {
+            (row, beyond)
+        };
+        let start = Resume {
+            i,
+            j,
+            t_a: t_line,
+            entry,
+        };
+        self.start_level = 1;
         self.walk_from(field, start, &mut None, counters)
     }
 
