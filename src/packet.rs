@@ -1,43 +1,53 @@
 //! Primary rays in packets: [`LANES`] neighbouring rays of one image row
-//! set up together.
+//! set up together, and started together past the blocks all of them
+//! clear.
 //!
 //! A primary ray spends about a quarter of its instructions before its walk
 //! starts: the camera ray ([`Camera::camera_ray`](crate::Camera::camera_ray)),
 //! its grid-space form, the checks of `traversal::nearest`, the reciprocals
 //! of its direction, the slab clip to the field's box and the first cell.
-//! Here those are computed lane-wise on `[f32; LANES]` arrays, component
-//! by component ([`RayPacket`], [`CameraPacket`](crate::CameraPacket)),
-//! which LLVM turns into SIMD on desktop targets, and each lane then walks
-//! on its own (`Walk::walk_from_entry`). The depth AOV traces its rows
-//! this way ([`render_depth`](crate::render_depth)); on bench512 (320×200,
-//! callgrind) a primary ray takes 1,922 instructions instead of 2,199, of
-//! which the walk itself (`Walk::walk_hdda`, untouched) is 1,594.
+//! Here those are computed lane-wise, component by component
+//! ([`RayPacket`], [`CameraPacket`](crate::CameraPacket)), on `glam`'s
+//! `Vec4` (SSE2 on x86-64) or on `[f32; LANES]` arrays that LLVM turns into
+//! SIMD on desktop targets. The depth AOV and the colour render trace their
+//! rows this way ([`render_depth`](crate::render_depth),
+//! [`render`](fn@crate::render)).
 //!
 //! Why the hits are the scalar walk's, bit for bit: every lane computes the
 //! very operations the scalar path computes for it, in the same order (IEEE
-//! arithmetic is the same in a SIMD lane, and nothing is fused), and then
-//! runs the same walk from the same start. Only where `nearest` branches
-//! does the packet differ in form: it clips all three slabs before testing
-//! `t_near ≤ t_far` once. With finite origins and finite, non-zero
+//! arithmetic is the same in a SIMD lane, nothing is fused, and each
+//! comparison picks the lane [`Real::min`] and [`Real::max`] pick), and
+//! then runs the same walk from the same start. Only where `nearest`
+//! branches does the packet differ in form: it clips all three slabs before
+//! testing `t_near ≤ t_far` once. With finite origins and finite, non-zero
 //! reciprocals no slab bound is NaN, and each clip only raises `t_near` and
 //! lowers `t_far`, so an empty range after any slab stays empty: the same
 //! rays miss. A lane the packet does not cover that way (a non-finite
 //! component, a direction component that is zero or whose reciprocal
 //! overflows: parallel or tiny axes) is handed to `nearest` itself.
-//! `tests/modes.rs` checks identity on packets of random, neighbouring and
-//! odd rays in every mode (and `Camera::camera_packet` against
-//! `camera_ray`), `tests/render_coherence.rs` on depth renders, and so does
-//! the `intersect` fuzz target.
 //!
-//! Sharing the walk itself was measured first and does not pay: on
-//! bench512 four horizontally adjacent rays walk the same first blocks
-//! (same level, same block, in the same order) for 2.1 block passes on
-//! average before their walks part: 18 % of all block passes, at most about
-//! 80 instructions per ray even if a shared pass cost one lane's (eight
-//! lanes share less: 13 %). Cell
-//! visits, the larger part of the walk, are never shared. A level view
-//! (`level_rmnp.pov`) shares more (60 % of its block passes), but that is
-//! the view column coherence already serves.
+//! **Shared starts.** Neighbouring rays of a pitched view cross the same
+//! high ground first, each testing the same coarse blocks of the pyramid.
+//! Each quad of the packet (four lanes) instead steps once, for all four,
+//! from grid line to grid line along `u` or `v`, block by block of the
+//! pyramid, and culls a step when every lane is above every block its cells
+//! between the two lines can be in (`shared_start`, whose documentation
+//! proves that this is each lane's flat walk's own cull of each of those
+//! cells). The lanes then start their walks at the last line reached
+//! (`Walk::walk_from_line`: the cell the flat walk enters there, entered as
+//! it enters it). A start skips only cells the flat walk culls, so the
+//! lanes visit the cells their rays' own walks visit and find the same
+//! hits; they test fewer blocks (bench512: 8.4 → 2.7 a ray). Quads, not
+//! the whole packet: the footprint of eight lanes is twice as wide, and
+//! the walks after the start cost more than the second quad's steps save.
+//! Column coherence (level cameras, below) does not take shared starts:
+//! its lanes resume where the rays below them stopped.
+//!
+//! `tests/modes.rs` checks identity (hits, and the cells visited) on
+//! packets of random, neighbouring and odd rays in every mode (and
+//! `Camera::camera_packet` against `camera_ray`),
+//! `tests/render_coherence.rs` on depth and colour renders, and so does the
+//! `intersect` fuzz target.
 
 use glam::{BVec4A, Vec3, Vec4};
 

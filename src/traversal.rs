@@ -53,7 +53,8 @@
 //! others, chosen once per ray. It may start at any level, since visiting a
 //! cell skips nothing: primary rays start at the coarsest, shadow rays
 //! (which start at a surface, inside blocks that are never culled) with the
-//! cells (`nearest`'s `any`).
+//! cells (`nearest`'s `any`), and the lanes of a packet started past blocks
+//! culled for all of them (`Walk::walk_from_line`) at level 1.
 //!
 //! Column coherence (`nearest_in_column`, behind
 //! [`HeightField::intersect_coherent`](crate::HeightField::intersect_coherent)):
