@@ -4,10 +4,10 @@
 //! field's skip pyramid (3.8 KB, a quarter of the micro:bit's RAM) and, on
 //! the Cortex-M4F board, the `thesis` scene's 512 × 512 field (256 KiB,
 //! made by `hfray::generate::plasma` exactly as the i486 program and the
-//! host make it at run time) and its pyramid (34 KB), and the `lcd`
-//! field's smooth-shading vertex normals (170 KB,
-//! `HeightField::write_raw_normals`; the others compute them as hits need
-//! them, to the same bits).
+//! host make it at run time) and its pyramid (34 KB), and the smooth
+//! fields' vertex normals (`lcd` 170 KB, `base` 32 KB,
+//! `HeightField::write_raw_normals`; the i486 program writes them at run
+//! time, the host computes them as hits need them, to the same bits).
 use std::{env, fs, path::Path, path::PathBuf};
 
 use hfray::{HeightConvention, HeightField, Samples, SkipGrid};
@@ -18,12 +18,13 @@ include!("src/generated.rs");
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(hfray_thesis_in_flash)");
-    println!("cargo::rustc-check-cfg=cfg(hfray_lcd_normals_in_flash)");
+    println!("cargo::rustc-check-cfg=cfg(hfray_normals_in_flash)");
     for f in [
         "memory-microbit.x",
         "memory-mps2-an386.x",
         "src/generated.rs",
         "data/rmnp_co_152x187.u8.raw",
+        "data/maunga_whau_87x61.u8.raw",
         "build.rs",
     ] {
         println!("cargo:rerun-if-changed={f}");
@@ -59,19 +60,14 @@ fn main() {
         let side = (THESIS_SIDE, THESIS_SIDE);
         write_pyramid(&field, side, &out.join("thesis_pyramid.bin"));
         println!("cargo:rustc-cfg=hfray_thesis_in_flash");
-        // The `lcd` field's smooth-shading vertex normals (170 KB; the
-        // micro:bit draws the fixed-point frame, which does not read them).
-        let lcd = HeightField::new(
-            Samples::U8(&LCD_FIELD_SAMPLES),
-            LCD_FIELD_WIDTH,
-            LCD_FIELD_DEPTH,
-            HeightConvention::Gray8,
-        )
-        .expect("field");
-        let mut normals = vec![0u8; lcd.raw_normals_bytes()];
-        lcd.write_raw_normals(&mut normals).expect("normals");
-        fs::write(out.join("lcd_normals.bin"), &normals).unwrap();
-        println!("cargo:rustc-cfg=hfray_lcd_normals_in_flash");
+        // The smooth fields' vertex normals (`lcd` 170 KB, `base` 32 KB;
+        // the micro:bit draws the fixed-point frame, which does not read
+        // them).
+        let size = (LCD_FIELD_WIDTH, LCD_FIELD_DEPTH);
+        write_normals(&LCD_FIELD_SAMPLES, size, &out.join("lcd_normals.bin"));
+        let size = (FIELD_WIDTH, FIELD_DEPTH);
+        write_normals(&FIELD_SAMPLES, size, &out.join("base_normals.bin"));
+        println!("cargo:rustc-cfg=hfray_normals_in_flash");
     }
 }
 
@@ -84,4 +80,14 @@ fn write_pyramid(samples: &[u8], (width, depth): (u32, u32), path: &Path) {
     let mut bytes = vec![0u8; SkipGrid::bytes_needed(width, depth, 1, layout).unwrap()];
     SkipGrid::build(&field, layout, &mut bytes).expect("pyramid");
     fs::write(path, &bytes).unwrap();
+}
+
+/// The smooth-shading vertex normals of a `width × depth` 8-bit field
+/// (`HeightField::write_raw_normals`, 6 bytes a vertex).
+fn write_normals(samples: &[u8], (width, depth): (u32, u32), path: &Path) {
+    let field = HeightField::new(Samples::U8(samples), width, depth, HeightConvention::Gray8)
+        .expect("field");
+    let mut normals = vec![0u8; field.raw_normals_bytes()];
+    field.write_raw_normals(&mut normals).expect("normals");
+    fs::write(path, &normals).unwrap();
 }

@@ -1,7 +1,19 @@
 // What `build.rs` precomputes into the Cortex-M flash (the `lcd` and
-// `thesis` skip pyramids, the `thesis` field) and the other programs make at
-// run time, included by both `scene.rs` and `build.rs` so they make the same
-// bytes.
+// `thesis` skip pyramids, the `thesis` field, vertex normals) and the other
+// programs make at run time, included by both `scene.rs` and `build.rs` so
+// they make the same bytes.
+
+/// Samples per row of the embedded field.
+pub const FIELD_WIDTH: u32 = 87;
+/// Rows of the embedded field.
+pub const FIELD_DEPTH: u32 = 61;
+
+/// Maunga Whau (Mt Eden), 87 × 61 8-bit gray samples, image row 0 (north)
+/// first: `data/maunga_whau_87x61.u8.raw`, decoded from the shared PNG by
+/// `tools/png_to_raw.py` (provenance in `data/maunga_whau_volcano_87x61.txt`).
+/// A `static`, so on the microcontrollers it stays in flash.
+pub static FIELD_SAMPLES: [u8; (FIELD_WIDTH * FIELD_DEPTH) as usize] =
+    *include_bytes!("../data/maunga_whau_87x61.u8.raw");
 
 /// Samples per row of the `lcd` scene's field.
 pub const LCD_FIELD_WIDTH: u32 = 152;

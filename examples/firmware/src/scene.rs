@@ -51,20 +51,8 @@ pub const THESIS_WIDTH: usize = 320;
 /// Height of the `thesis` frame.
 pub const THESIS_HEIGHT: usize = 200;
 
-/// Samples per row of the embedded field.
-pub const FIELD_WIDTH: u32 = 87;
-/// Rows of the embedded field.
-pub const FIELD_DEPTH: u32 = 61;
-
-/// Maunga Whau (Mt Eden), 87 × 61 8-bit gray samples, image row 0 (north)
-/// first: `data/maunga_whau_87x61.u8.raw`, decoded from the shared PNG by
-/// `tools/png_to_raw.py` (provenance in `data/maunga_whau_volcano_87x61.txt`).
-/// A `static`, so on the microcontrollers it stays in flash.
-pub static FIELD_SAMPLES: [u8; (FIELD_WIDTH * FIELD_DEPTH) as usize] =
-    *include_bytes!("../data/maunga_whau_87x61.u8.raw");
-
-// The `lcd` field, `THESIS_SIDE`, `THESIS_SAMPLES`, `thesis_field`,
-// `skip_layout`: shared with `build.rs`.
+// The embedded (`base`) and `lcd` fields, `THESIS_SIDE`, `THESIS_SAMPLES`,
+// `thesis_field`, `skip_layout`: shared with `build.rs`.
 include!("generated.rs");
 
 /// Object capacity of the scene model: the height field, plus the plane
@@ -464,6 +452,10 @@ const fn pyramid_bytes(width: u32, depth: u32) -> usize {
 pub const SKIP_BYTES: usize = pyramid_bytes(FIELD_WIDTH, FIELD_DEPTH);
 /// Bytes of the `lcd` field's pyramid (3,828: `16 + 2 × (38·47 + 10·12)`).
 pub const LCD_SKIP_BYTES: usize = pyramid_bytes(LCD_FIELD_WIDTH, LCD_FIELD_DEPTH);
+/// Bytes of the `lcd` field's vertex normals
+/// (`HeightField::write_raw_normals`: 6 a vertex), the largest smooth
+/// field's.
+pub const LCD_NORMALS_BYTES: usize = LCD_FIELD_WIDTH as usize * LCD_FIELD_DEPTH as usize * 6;
 /// Bytes of the `thesis` field's pyramid (34,960: `16 + 2 × (128² + 32² + 8²)`).
 pub const THESIS_SKIP_BYTES: usize = pyramid_bytes(THESIS_SIDE, THESIS_SIDE);
 

@@ -69,6 +69,11 @@ static mut THESIS_FIELD: [u8; scene::THESIS_SAMPLES] = [0; scene::THESIS_SAMPLES
 /// The skip pyramid of whichever field the scene draws (the largest, the
 /// thesis field's, is 34 KB).
 static mut PYRAMID: [u8; scene::THESIS_SKIP_BYTES] = [0; scene::THESIS_SKIP_BYTES];
+/// The smooth-shading vertex normals of the scene's field, written at run
+/// time before the frame (the largest smooth field, `lcd`'s, takes 170 KB;
+/// the `thesis` field is flat).
+#[cfg(not(feature = "fixed-frame"))]
+static mut NORMALS: [u8; scene::LCD_NORMALS_BYTES] = [0; scene::LCD_NORMALS_BYTES];
 /// The row buffer, as wide as the widest frame (`thesis`, 320 pixels): in
 /// `.bss`, not on the stack under the render.
 static mut LINE: [hfray::Rgb888; scene::THESIS_WIDTH] =
@@ -407,10 +412,33 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
         Ok(s) => s,
         Err(_) => fail("field-samples"),
     };
-    let fields = match scene::build_field(&model, samples, size, scene::Pyramid::Build(pyramid)) {
-        Ok(f) => [f],
+    let field = match scene::build_field(&model, samples, size, scene::Pyramid::Build(pyramid)) {
+        Ok(f) => f,
         Err(_) => fail("field"),
     };
+    // The smooth fields' vertex normals, written once here (as POV-Ray does
+    // when it reads a smooth field, and as the Cortex-M4F keeps them in
+    // flash) instead of per hit in the frame: the same normals. Their
+    // arithmetic is `f32`, so it runs under the render's 24-bit precision.
+    #[cfg(not(feature = "fixed-frame"))]
+    let field = if matches!(kind, scene::FrameKind::Thesis) {
+        field
+    } else {
+        // SAFETY: taken once, here; nothing else names this static.
+        let normals = unsafe { &mut *addr_of_mut!(NORMALS) };
+        let Some(table) = normals.get_mut(..field.raw_normals_bytes()) else {
+            fail("normals")
+        };
+        set_x87_precision(0b00);
+        let written = field.write_raw_normals(table);
+        core::hint::black_box(&table);
+        set_x87_precision(0b10);
+        match written.and_then(|()| field.with_raw_normals(table)) {
+            Ok(f) => f,
+            Err(_) => fail("normals"),
+        }
+    };
+    let fields = [field];
     // O_WRONLY | O_CREAT | O_TRUNC, mode 0644.
     let fd = syscall3(nr::OPEN, c"frame-i486.ppm".as_ptr() as u32, 0o1101, 0o644);
     if fd < 0 {
