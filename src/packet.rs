@@ -143,17 +143,36 @@ pub(crate) fn normalize_or_zero(v: &[Lanes; 3], length: &Lanes) -> [Lanes; 3] {
 pub(crate) fn map_f32(map: &GridTransform, rays: &RayPacket) -> RayPacket {
     // `Mat3 * Vec3` as glam computes it: `x_axis·v.x + y_axis·v.y + z_axis·v.z`.
     let m = map.linear.to_cols_array_2d();
-    let apply = |v: &[Lanes; 3]| -> [Lanes; 3] {
-        core::array::from_fn(|k| {
-            lanes(|l| m[0][k] * v[0][l] + m[1][k] * v[1][l] + m[2][k] * v[2][l])
-        })
+    let apply = |v: &[[Vec4; 2]; 3], k: usize| -> [Vec4; 2] {
+        let half = |h: usize| {
+            Vec4::splat(m[0][k]) * v[0][h]
+                + Vec4::splat(m[1][k]) * v[1][h]
+                + Vec4::splat(m[2][k]) * v[2][h]
+        };
+        [half(0), half(1)]
     };
     let (anchor, anchor_grid) = (map.anchor.to_array(), map.anchor_grid.to_array());
-    let shifted: [Lanes; 3] = core::array::from_fn(|k| lanes(|l| rays.origin[k][l] - anchor[k]));
-    let origin = apply(&shifted);
+    let (o, d) = (&rays.origin, &rays.direction);
+    let shift = |k: usize| {
+        let o = pair(&o[k]);
+        [o[0] - Vec4::splat(anchor[k]), o[1] - Vec4::splat(anchor[k])]
+    };
+    let shifted = [shift(0), shift(1), shift(2)];
+    let direction = [pair(&d[0]), pair(&d[1]), pair(&d[2])];
+    let origin = |k: usize| {
+        let v = apply(&shifted, k);
+        unpair([
+            v[0] + Vec4::splat(anchor_grid[k]),
+            v[1] + Vec4::splat(anchor_grid[k]),
+        ])
+    };
     RayPacket {
-        origin: core::array::from_fn(|k| lanes(|l| origin[k][l] + anchor_grid[k])),
-        direction: apply(&rays.direction),
+        origin: [origin(0), origin(1), origin(2)],
+        direction: [
+            unpair(apply(&direction, 0)),
+            unpair(apply(&direction, 1)),
+            unpair(apply(&direction, 2)),
+        ],
     }
 }
 
@@ -208,9 +227,15 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     counters: &mut Counters,
 ) -> [Option<GridHit<f32>>; LANES] {
     let (o, d) = (&rays.origin, &rays.direction);
-    let (o4, d4) = (o.map(|c| pair(&c)), d.map(|c| pair(&c)));
-    let inv4 = d4.map(|c| c.map(|v| Vec4::ONE / v));
-    let inv: [Lanes; 3] = inv4.map(unpair);
+    // (Arrays of `Vec4` written out, not `map`ped: `map`'s closures are not
+    // inlined, and their results go through memory.)
+    let (o4, d4) = (
+        [pair(&o[0]), pair(&o[1]), pair(&o[2])],
+        [pair(&d[0]), pair(&d[1]), pair(&d[2])],
+    );
+    let recip = |v: [Vec4; 2]| [Vec4::ONE / v[0], Vec4::ONE / v[1]];
+    let inv4 = [recip(d4[0]), recip(d4[1]), recip(d4[2])];
+    let inv: [Lanes; 3] = [unpair(inv4[0]), unpair(inv4[1]), unpair(inv4[2])];
     // The lanes `walk` takes with three moving axes and no early return
     // before the slabs (the range and the water test are the same for all).
     let (min_units, max_units) = field.units_range();
@@ -218,12 +243,13 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     // `x − x == 0` is `x.is_finite()` (∞ − ∞ and NaN − NaN are NaN).
     #[allow(clippy::eq_op)]
     let finite = |x: Vec4| (x - x).cmpeq(Vec4::ZERO);
-    let covered = [0, 1].map(|h| {
+    let covered_half = |h: usize| {
         (0..3).fold(BVec4A::splat(true), |all, k| {
             let (o, d, inv) = (o4[k][h], d4[k][h], inv4[k][h]);
             all & finite(o) & finite(d) & d.cmpne(Vec4::ZERO) & finite(inv)
         })
-    });
+    };
+    let covered = [covered_half(0), covered_half(1)];
     let covered_bits = covered[0].bitmask() | covered[1].bitmask() << 4;
     let covered: [bool; LANES] = lanes(|l| covered_bits >> l & 1 != 0);
     let mut hits = [None; LANES];
@@ -250,21 +276,26 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     // `walk`'s widened height slab, per lane (its margin grows with `o_y`).
     let floor = Real::max(f32::from_height_units(min_units), water);
     let top = f32::from_height_units(max_units);
-    let margin = o4[1].map(|o| Vec4::splat(1.0 / 64.0) + o.abs() * f32::EPSILON * 16.0);
+    let margin = |o: Vec4| Vec4::splat(1.0 / 64.0) + o.abs() * f32::EPSILON * 16.0;
+    let margin = [margin(o4[1][0]), margin(o4[1][1])];
     let mut span = ([Vec4::splat(t_min); 2], [Vec4::splat(t_max); 2]);
     let zero = [Vec4::ZERO; 2];
     clip(o4[0], inv4[0], zero, [Vec4::splat(last_u); 2], &mut span);
-    let y_lo = margin.map(|m| Vec4::splat(floor) - m);
-    let y_hi = margin.map(|m| Vec4::splat(top) + m);
+    let y_lo = [
+        Vec4::splat(floor) - margin[0],
+        Vec4::splat(floor) - margin[1],
+    ];
+    let y_hi = [Vec4::splat(top) + margin[0], Vec4::splat(top) + margin[1]];
     clip(o4[1], inv4[1], y_lo, y_hi, &mut span);
     clip(o4[2], inv4[2], zero, [Vec4::splat(last_v); 2], &mut span);
     // Where each lane enters the box, within the field's side.
     let entry = |k: usize, last: f32| {
-        unpair([0, 1].map(|h| {
+        let half = |h: usize| {
             let e = o4[k][h] + span.0[h] * d4[k][h];
             let e = Vec4::select(Vec4::ZERO.cmpgt(e), Vec4::ZERO, e);
             Vec4::select(Vec4::splat(last).cmplt(e), Vec4::splat(last), e)
-        }))
+        };
+        unpair([half(0), half(1)])
     };
     let (entry_u, entry_v) = (entry(0, last_u), entry(2, last_v));
     let (t_near, t_far) = (unpair(span.0), unpair(span.1));
@@ -274,21 +305,24 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
 
     let walked: [bool; LANES] = lanes(|l| covered[l] && t_near[l] <= t_far[l]);
     let shared = match (columns.is_none(), field.traversal(), field.skip()) {
-        (true, Traversal::Hierarchy, Some(skip)) => [0, 4].map(|q| {
-            let quad = |v: &[i32; LANES]| core::array::from_fn(|l| v[q + l]);
-            let walked = core::array::from_fn(|l| walked[q + l]);
-            let t_far = Vec4::from_slice(&t_far[q..q + 4]);
-            shared_start(
-                field,
-                skip,
-                rays,
-                &inv,
-                walked,
-                [quad(&i), quad(&j)],
-                t_far,
-                q,
-            )
-        }),
+        (true, Traversal::Hierarchy, Some(skip)) => {
+            let quad = |q: usize| {
+                let four = |v: &[i32; LANES]| [v[q], v[q + 1], v[q + 2], v[q + 3]];
+                let walked = [walked[q], walked[q + 1], walked[q + 2], walked[q + 3]];
+                let t_far = Vec4::from_slice(&t_far[q..q + 4]);
+                shared_start(
+                    field,
+                    skip,
+                    rays,
+                    &inv,
+                    walked,
+                    [four(&i), four(&j)],
+                    t_far,
+                    q,
+                )
+            };
+            [quad(0), quad(4)]
+        }
         _ => [None, None],
     };
 
