@@ -34,14 +34,17 @@
 //! between the two lines can be in (`shared_start`, whose documentation
 //! proves that this is each lane's flat walk's own cull of each of those
 //! cells). The lanes then start their walks at the last line reached
-//! (`Walk::walk_from_line`: the cell the flat walk enters there, entered as
+//! (`Walk::line_start`: the cell the flat walk enters there, entered as
 //! it enters it). A start skips only cells the flat walk culls, so the
 //! lanes visit the cells their rays' own walks visit and find the same
 //! hits; they test fewer blocks (bench512: 8.4 → 2.7 a ray). Quads, not
 //! the whole packet: the footprint of eight lanes is twice as wide, and
 //! the walks after the start cost more than the second quad's steps save.
-//! Column coherence (level cameras, below) does not take shared starts:
-//! its lanes resume where the rays below them stopped.
+//! With column coherence (level cameras), a lane that resumes where the ray
+//! below it stopped starts there; the others take their quad's shared start
+//! (`Walk::walk_column_from`: a start past cells the flat walk culls keeps
+//! what the next ray of the column needs, the hit cell and a ray above the
+//! surface at every sample before it).
 //!
 //! `tests/modes.rs` checks identity (hits, and the cells visited) on
 //! packets of random, neighbouring and odd rays in every mode (and
@@ -58,7 +61,7 @@ use crate::skip::SkipGrid;
 use crate::transform::GridTransform;
 use crate::traversal::{
     first_cell, nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay,
-    Traversal, Walk, WalkGrid,
+    LineStart, Traversal, Walk, WalkGrid,
 };
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
@@ -304,71 +307,114 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     let j: [i32; LANES] = lanes(|l| first_cell(entry_v[l], step(2, l), cells_v));
 
     let walked: [bool; LANES] = lanes(|l| covered[l] && t_near[l] <= t_far[l]);
-    let shared = match (columns.is_none(), field.traversal(), field.skip()) {
-        (true, Traversal::Hierarchy, Some(skip)) => {
-            let quad = |q: usize| {
-                let four = |v: &[i32; LANES]| [v[q], v[q + 1], v[q + 2], v[q + 3]];
-                let walked = [walked[q], walked[q + 1], walked[q + 2], walked[q + 3]];
-                let t_far = Vec4::from_slice(&t_far[q..q + 4]);
-                shared_start(
-                    field,
-                    skip,
-                    rays,
-                    &inv,
-                    walked,
-                    [four(&i), four(&j)],
-                    t_far,
-                    q,
-                )
-            };
-            [quad(0), quad(4)]
-        }
-        _ => [None, None],
-    };
+    let shared = |from: &[bool; LANES]| quad_starts(field, rays, &inv, (&i, &j), &t_far, from);
+    let walk_of = |l: usize| lane_walk(field, rays, &inv, t_far[l], water, l);
 
+    let Some(columns) = columns else {
+        let shared = shared(&walked);
+        for l in 0..LANES {
+            if walked[l] {
+                let mut walk = walk_of(l);
+                let (i, j, t_near) = (i[l], j[l], t_near[l]);
+                let start = match shared[l / 4] {
+                    Some(s) => walk.line_start(i, j, t_near, s.along_u, s.line),
+                    None => LineStart::Entry,
+                };
+                hits[l] = walk.walk_from_start(field, start, i, j, t_near, counters);
+            }
+        }
+        return hits;
+    };
+    // Each lane's column start first; then the lanes that do not resume may
+    // start where their quad's shared start is.
+    let mut starts = [None; LANES];
     for l in 0..LANES {
         if !covered[l] {
             continue;
         }
         // As `walk` does: the column's state is cleared here, and filled in
         // only by a walk that gets under way.
-        let column = columns.as_deref_mut().map(|columns| {
-            let previous = columns[l];
-            columns[l].clear();
-            (previous, &mut columns[l])
-        });
-        if !(t_near[l] <= t_far[l]) {
-            continue;
+        let previous = columns[l];
+        columns[l].clear();
+        if walked[l] {
+            let walk = walk_of(l);
+            let (i, j, t_near) = (i[l], j[l], t_near[l]);
+            let start = walk.column_start(field, &previous, t_min, t_max, i, j, t_near, counters);
+            starts[l] = Some((walk, start));
         }
-        let axis = |k: usize| Axis {
-            step: step(k, l),
-            off: (d[k][l] > 0.0) as i32,
-            inv: inv[k][l],
-        };
-        let GridRay { origin, direction } = rays.grid_ray(l);
-        let mut walk = Walk::new(
-            field,
-            origin,
-            direction,
-            axis(0),
-            axis(2),
-            t_far[l],
-            water,
-            false,
-        );
-        hits[l] = match column {
-            Some((previous, column)) => walk.walk_in_column(
-                field, &previous, column, t_min, t_max, i[l], j[l], t_near[l], counters,
-            ),
-            None => match shared[l / 4] {
-                Some(s) => {
-                    walk.walk_from_line(field, i[l], j[l], t_near[l], s.along_u, s.line, counters)
-                }
-                None => walk.walk_from_entry(field, i[l], j[l], t_near[l], counters),
-            },
-        };
+    }
+    let fresh = lanes(|l| starts[l].is_some_and(|(_, start)| !start.resumed));
+    let shared = shared(&fresh);
+    for l in 0..LANES {
+        if let Some((mut walk, start)) = starts[l] {
+            let (column, t_near) = (&mut columns[l], t_near[l]);
+            let line =
+                shared[l / 4].map(|s| walk.line_start(i[l], j[l], t_near, s.along_u, s.line));
+            hits[l] =
+                walk.walk_column_from(field, start, line, column, t_min, t_max, t_near, counters);
+        }
     }
     hits
+}
+
+/// The shared starts of the packet's quads (lanes 0–3 and 4–7), for the
+/// lanes in `from` ([`shared_start`]).
+#[inline(always)]
+fn quad_starts<F: WalkGrid>(
+    field: &F,
+    rays: &RayPacket,
+    inv: &[Lanes; 3],
+    first: (&[i32; LANES], &[i32; LANES]),
+    t_far: &Lanes,
+    from: &[bool; LANES],
+) -> [Option<SharedStart>; 2] {
+    let (Traversal::Hierarchy, Some(skip)) = (field.traversal(), field.skip()) else {
+        return [None, None];
+    };
+    let quad = |q: usize| {
+        let four = |v: &[i32; LANES]| [v[q], v[q + 1], v[q + 2], v[q + 3]];
+        let from = [from[q], from[q + 1], from[q + 2], from[q + 3]];
+        let t_far = Vec4::from_slice(&t_far[q..q + 4]);
+        shared_start(
+            field,
+            skip,
+            rays,
+            inv,
+            from,
+            [four(first.0), four(first.1)],
+            t_far,
+            q,
+        )
+    };
+    [quad(0), quad(4)]
+}
+
+/// Lane `l`'s walk (its axes all move), up to `t_far`.
+#[inline(always)]
+fn lane_walk<F: WalkGrid>(
+    field: &F,
+    rays: &RayPacket,
+    inv: &[Lanes; 3],
+    t_far: f32,
+    water: f32,
+    l: usize,
+) -> Walk<f32> {
+    let GridRay { origin, direction } = rays.grid_ray(l);
+    let axis = |k: usize| Axis {
+        step: if direction[k] > 0.0 { 1 } else { -1 },
+        off: (direction[k] > 0.0) as i32,
+        inv: inv[k][l],
+    };
+    Walk::new(
+        field,
+        origin,
+        direction,
+        axis(0),
+        axis(2),
+        t_far,
+        water,
+        false,
+    )
 }
 
 /// A grid line before which no lane of a packet hits the field (see
@@ -385,7 +431,7 @@ const MAX_ACROSS: u32 = 4;
 
 /// A grid line, along `u` or `v`, before which the flat walk of each of
 /// the four lanes `quad..quad + 4` that are `walked` culls every cell:
-/// those lanes may start there (`Walk::walk_from_line`, which also
+/// those lanes may start there (`Walk::line_start`, which also
 /// checks the conditions below that are the lane's own). `None` when no
 /// line past the first is found.
 ///
@@ -399,7 +445,7 @@ const MAX_ACROSS: u32 = 4;
 /// - *When.* The flat walk visits a cell of column `c` at parameters
 ///   between those of the lines that bound the column (it enters a column
 ///   exactly at its near line's parameter and leaves it at its far line's;
-///   for the first cell `Walk::walk_from_line` checks it), so between `t(k)`
+///   for the first cell `Walk::line_start` checks it), so between `t(k)`
 ///   and `t(k')` for a column between `k` and `k'`. A lane's `t(k)` here is
 ///   `(k − o)·inv`, the walk's own boundary parameter.
 /// - *How high.* The walk's `y` at a parameter, `o_y + t·d_y`, is computed

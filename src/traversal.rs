@@ -54,7 +54,7 @@
 //! cell skips nothing: primary rays start at the coarsest, shadow rays
 //! (which start at a surface, inside blocks that are never culled) with the
 //! cells (`nearest`'s `any`), and the lanes of a packet started past blocks
-//! culled for all of them (`Walk::walk_from_line`) at level 1.
+//! culled for all of them (`Walk::line_start`) at level 1.
 //!
 //! Column coherence (`nearest_in_column`, behind
 //! [`HeightField::intersect_coherent`](crate::HeightField::intersect_coherent)):
@@ -262,6 +262,7 @@ pub(crate) trait WalkGrid: SampleGrid {
 const TWO_BUILDS: bool = !cfg!(feature = "compact");
 
 /// The ray and the field's constants for one walk.
+#[derive(Clone, Copy)]
 pub(crate) struct Walk<S> {
     /// The ray, by value: kept in registers across the stores of a walk.
     o: [S; 3],
@@ -285,7 +286,7 @@ pub(crate) struct Walk<S> {
     /// The level the hierarchical walk starts at, at most the pyramid's
     /// top: 0 (cells) for shadow rays (see [`nearest`]), the top for other
     /// rays, 1 where a packet found the coarser blocks culled
-    /// ([`Walk::walk_from_line`]).
+    /// ([`Walk::line_start`]).
     start_level: u32,
 }
 
@@ -312,6 +313,28 @@ struct Cursor<S> {
     tu: S,
     tv: S,
     entry: Place,
+}
+
+/// Where a walk may start past a grid line ([`Walk::line_start`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum LineStart<S> {
+    /// From the entry, as without the line.
+    Entry,
+    /// Nowhere: the walk ends before the line, and culls every cell it
+    /// visits.
+    Past,
+    /// At this cell.
+    At(Resume<S>),
+}
+
+/// How a primary ray of an image column starts ([`Walk::column_start`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ColumnStart<S> {
+    at: Resume<S>,
+    /// `at` is where the column's previous ray stopped.
+    pub(crate) resumed: bool,
+    /// The ray leaves its state for the next one of its column.
+    keep: bool,
 }
 
 /// A cell of the walk and how the walk entered it: where a walk can be
@@ -1429,17 +1452,18 @@ impl<S: Real> Walk<S> {
         self.walk_from(field, start, &mut None, counters)
     }
 
-    /// [`walk_from_entry`](Self::walk_from_entry) for a ray whose flat walk
-    /// culls every cell it visits in the columns (rows, unless `along_u`)
-    /// before grid line `line`, when each of those cells is visited between
-    /// the parameters of the two lines that bound its column (see
-    /// `packet::shared_start`, which finds such lines): started at the cell
-    /// it enters across that line, as the flat walk enters it, at level 1
-    /// of the pyramid. From the entry instead when the ray does not cross
-    /// the line after `t_near`, when its boundary parameters are not
-    /// strictly monotone, or when its first cell is not entered between its
-    /// column's lines (rounding at the box's side); no hit when the line is
-    /// past `t_far`. Both axes move.
+    /// Where the walk from cell `(i, j)`, entered from inside at `t_near`,
+    /// may start instead, for a ray whose flat walk culls every cell it
+    /// visits in the columns (rows, unless `along_u`) before grid line
+    /// `line`, when each of those cells is visited between the parameters
+    /// of the two lines that bound its column (see `packet::shared_start`,
+    /// which finds such lines): at the cell it enters across that line, as
+    /// the flat walk enters it, to be walked from level 1 of the pyramid
+    /// ([`LineStart::At`]; [`Walk::walk_from`] takes it). Not when the ray
+    /// does not cross the line after `t_near`, when its boundary parameters
+    /// are not strictly monotone, or when its first cell is not entered
+    /// between its column's lines (rounding at the box's side); past the
+    /// walk's end when the line is past `t_far`. Both axes move.
     ///
     /// Why the cursor is the flat walk's. With strictly monotone exit
     /// parameters on both axes, the flat walk is, at any `t` of its range,
@@ -1454,16 +1478,14 @@ impl<S: Real> Walk<S> {
     /// blocks before the line (its last step was of level 1).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(crate) fn walk_from_line<F: WalkGrid>(
+    pub(crate) fn line_start(
         &mut self,
-        field: &F,
         i: i32,
         j: i32,
         t_near: S,
         along_u: bool,
         line: i32,
-        counters: &mut Counters,
-    ) -> Option<GridHit<S>> {
+    ) -> LineStart<S> {
         let (o, d) = (self.o, self.d);
         let (au, av) = (self.au, self.av);
         let strict = S::strict_boundaries(o[0], au.inv, 0, self.cells_u)
@@ -1479,10 +1501,10 @@ impl<S: Real> Walk<S> {
         let t_line = axis_a.at_line::<true>(line, o_a);
         let beyond = line - (axis_a.step < 0) as i32;
         if !(strict && near <= t_near && t_near <= far && t_line > t_near) {
-            return self.walk_from_entry(field, i, j, t_near, counters);
+            return LineStart::Entry;
         }
         if t_line >= self.t_far {
-            return None;
+            return LineStart::Past;
         }
         debug_assert!((beyond - first) * axis_a.step > 0);
         let (axis_b, o_b, d_b, first_b, cells_b) = if along_u {
@@ -1507,14 +1529,32 @@ impl<S: Real> Walk<S> {
         } else {
             (row, beyond)
         };
-        let start = Resume {
+        self.start_level = 1;
+        LineStart::At(Resume {
             i,
             j,
             t_a: t_line,
             entry,
-        };
-        self.start_level = 1;
-        self.walk_from(field, start, &mut None, counters)
+        })
+    }
+
+    /// The walk from the entry, or from the line start `start`
+    /// ([`line_start`](Self::line_start)).
+    #[inline(always)]
+    pub(crate) fn walk_from_start<F: WalkGrid>(
+        &mut self,
+        field: &F,
+        start: LineStart<S>,
+        i: i32,
+        j: i32,
+        t_near: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        match start {
+            LineStart::Entry => self.walk_from_entry(field, i, j, t_near, counters),
+            LineStart::Past => None,
+            LineStart::At(start) => self.walk_from(field, start, &mut None, counters),
+        }
     }
 
     /// [`walk_from_entry`](Self::walk_from_entry) for a primary ray of an
@@ -1536,32 +1576,81 @@ impl<S: Real> Walk<S> {
         t_near: S,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
-        let mut start = Resume {
-            i,
-            j,
-            t_a: t_near,
-            entry: Place::Interior,
+        let start = self.column_start(field, previous, t_min, t_max, i, j, t_near, counters);
+        self.walk_column_from(field, start, None, column, t_min, t_max, t_near, counters)
+    }
+
+    /// Where [`walk_in_column`](Self::walk_in_column) starts the walk: the
+    /// entry, or where the column's previous ray stopped (counted in
+    /// `counters.resumed`).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn column_start<F: WalkGrid>(
+        &self,
+        field: &F,
+        previous: &ColumnState<S>,
+        t_min: S,
+        t_max: S,
+        i: i32,
+        j: i32,
+        t_near: S,
+        counters: &mut Counters,
+    ) -> ColumnStart<S> {
+        let mut start = ColumnStart {
+            at: Resume {
+                i,
+                j,
+                t_a: t_near,
+                entry: Place::Interior,
+            },
+            resumed: false,
+            keep: false,
         };
         // Column coherence: only without a water level that cuts the surface.
-        let coherent = field.water_units() <= field.units_range().0;
-        let mut above = false;
-        if coherent {
+        if field.water_units() <= field.units_range().0 {
             match previous.resume_for(&self.o, &self.d, t_min, t_max, t_near) {
                 // Resumed only before the walk's end, which it then reaches
                 // through cells whose samples are all above (else it starts
                 // from the beginning, and the same holds of its first sample).
                 Some(r) if r.t_a < self.t_far => {
-                    start = r;
-                    above = true;
+                    start.at = r;
+                    start.resumed = true;
+                    start.keep = true;
                     counters.resumed += 1;
                 }
-                Some(_) => above = true,
-                None => above = starts_above(field, self, i, j, t_near),
+                Some(_) => start.keep = true,
+                None => start.keep = starts_above(field, self, i, j, t_near),
             }
         }
+        start
+    }
+
+    /// The walk of [`walk_in_column`](Self::walk_in_column) from `start`
+    /// ([`column_start`](Self::column_start)), or, unless it resumed, from
+    /// the line start `line` ([`line_start`](Self::line_start)): a start
+    /// past cells the flat walk culls, from which it reaches the same hit
+    /// (the cell a later ray of the column may resume at) and before which
+    /// the ray was above the surface at every sample.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn walk_column_from<F: WalkGrid>(
+        &mut self,
+        field: &F,
+        start: ColumnStart<S>,
+        line: Option<LineStart<S>>,
+        column: &mut ColumnState<S>,
+        t_min: S,
+        t_max: S,
+        t_near: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
         let mut stop = None;
-        let hit = self.walk_from(field, start, &mut stop, counters);
-        if coherent && above {
+        let hit = match line.filter(|_| !start.resumed) {
+            Some(LineStart::Past) => None,
+            Some(LineStart::At(at)) => self.walk_from(field, at, &mut stop, counters),
+            _ => self.walk_from(field, start.at, &mut stop, counters),
+        };
+        if start.keep {
             *column = ColumnState {
                 valid: true,
                 origin: self.o,
