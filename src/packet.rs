@@ -534,15 +534,14 @@ fn shared_start<F: WalkGrid>(
     }
     k += (step < 0) as i32;
     let start = k;
-    // At line `k`: whether every lane has ended there, the lanes' lowest
-    // `y` and the range of their coordinates across.
-    let at = |k: i32| -> (bool, [f32; 3]) {
+    // At line `k`: each lane's `t`, and the lanes' lowest `y` and the range
+    // of their coordinates across.
+    let at = |k: i32| -> (Vec4, [f32; 3]) {
         let t = (Vec4::splat(k as f32) - o_a) * inv_a;
         let across = o_b + t * d_b;
         let y = o_y + t * d_y;
-        let ended = t.cmpge(t_far).all();
         (
-            ended,
+            t,
             [y.min_element(), across.min_element(), across.max_element()],
         )
     };
@@ -560,7 +559,7 @@ fn shared_start<F: WalkGrid>(
         } else {
             ((k - 1) >> shift) << shift
         };
-        let (ended, there) = at(next);
+        let (t_next, there) = at(next);
         let low = Real::min(here[0], there[0]);
         let (lo, hi) = (Real::min(here[1], there[1]), Real::max(here[2], there[2]));
         let eps = (Real::max(-lo, hi) + slack) * (1.0 / (1u32 << 21) as f32);
@@ -598,7 +597,7 @@ fn shared_start<F: WalkGrid>(
             k = next;
             here = there;
             let past_field = if step > 0 { k >= cells_a } else { k <= 0 };
-            if past_field || ended {
+            if past_field || t_next.cmpge(t_far).all() {
                 return Some(SharedStart { along_u, line: k });
             }
         } else if level > 1 {
