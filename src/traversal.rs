@@ -288,6 +288,12 @@ pub(crate) struct Walk<S> {
     /// rays, 1 where a packet found the coarser blocks culled
     /// ([`Walk::line_start`]).
     start_level: u32,
+    /// The coarsest level the hierarchical walk uses: the pyramid's top,
+    /// or 1 after a packet's shared start ([`Walk::line_start`]), near the
+    /// surface, where climbing back to coarser blocks rarely culls them
+    /// (bench512: 36 instructions a primary ray fewer; a level view, whose
+    /// lanes that start so are mostly rays past the horizon, 0.5% more).
+    max_level: u8,
 }
 
 /// What one cell visit found.
@@ -1430,6 +1436,7 @@ impl<S: Real> Walk<S> {
             wet: water_units != 0 || water > S::ZERO,
             v_strict: true,
             start_level: if any { 0 } else { u32::MAX },
+            max_level: u8::MAX,
         }
     }
 
@@ -1474,8 +1481,9 @@ impl<S: Real> Walk<S> {
     /// predecessor's exit parameter is `t_l` itself) and the row
     /// [`first_exit_past`] finds; the cell was entered at `t_l`, across the
     /// line, or at a vertex when the row before it is left at `t_l` too.
-    /// The walk may start at any level, and the packet culled the coarser
-    /// blocks before the line (its last step was of level 1).
+    /// The walk may start at any level and use any levels, and the packet
+    /// culled the coarser blocks before the line (its last step was of
+    /// level 1): it starts at level 1 and climbs no higher.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn line_start(
@@ -1530,6 +1538,7 @@ impl<S: Real> Walk<S> {
             (row, beyond)
         };
         self.start_level = 1;
+        self.max_level = 1;
         LineStart::At(Resume {
             i,
             j,
@@ -1682,7 +1691,7 @@ impl<S: Real> Walk<S> {
         let skip = match (field.traversal(), field.skip()) {
             (Traversal::Flat, _) | (_, None) => None,
             (Traversal::Blocks, Some(s)) => Some((s, 1)),
-            (Traversal::Hierarchy, Some(s)) => Some((s, s.levels())),
+            (Traversal::Hierarchy, Some(s)) => Some((s, s.levels().min(self.max_level))),
         };
         let (o, au, av) = (self.o, self.au, self.av);
         let (cells_u, cells_v) = (self.cells_u, self.cells_v);
