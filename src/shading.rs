@@ -250,8 +250,38 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
         fields: &'a [HeightField<'a>],
     ) -> Result<Self, RenderError> {
-        let mut objects: Vec<Prepared<'a>, OBJECTS> = Vec::new();
-        let mut any_transparent = false;
+        let mut tracer = Self::empty(scene, fields);
+        tracer.prepare(scene)?;
+        Ok(tracer)
+    }
+
+    /// A tracer for `scene` with no object prepared yet
+    /// ([`prepare`](Self::prepare) adds them). The renderers make their
+    /// tracer in two steps, where it stays: [`new`](Self::new) hands it
+    /// back in a `Result`, a copy of all of it (21 KiB with 64 objects).
+    pub(crate) fn empty<const LIGHTS: usize, const GRADIENTS: usize>(
+        scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
+        fields: &'a [HeightField<'a>],
+    ) -> Self {
+        Tracer {
+            objects: Vec::new(),
+            fields,
+            lights: &scene.lights,
+            background: scene.background,
+            ambient_light: scene.settings.ambient_light,
+            max_trace_level: scene.settings.max_trace_level,
+            any_transparent: false,
+            normals: VertexNormalCache::new(),
+        }
+    }
+
+    /// Prepares the objects of `scene` (the scene [`empty`](Self::empty)
+    /// was given), as [`new`](Self::new) says.
+    pub(crate) fn prepare<const LIGHTS: usize, const GRADIENTS: usize>(
+        &mut self,
+        scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
+    ) -> Result<(), RenderError> {
+        let fields = self.fields;
         for (index, object) in scene.objects.iter().enumerate() {
             let primitive =
                 Primitive::from_shape(&object.shape).map_err(|error| RenderError::Shape {
@@ -305,7 +335,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             if !cfg!(feature = "secondary-rays") && (reflective || !opaque) {
                 return Err(RenderError::NotBuilt { object: index });
             }
-            any_transparent |= !opaque;
+            self.any_transparent |= !opaque;
             let prepared = Prepared {
                 placed: Placed::new(primitive, &object.transform),
                 pigment,
@@ -322,18 +352,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 field_index,
             };
             // Cannot fail: the scene holds at most OBJECTS objects.
-            let _ = objects.push(prepared);
+            let _ = self.objects.push(prepared);
         }
-        Ok(Tracer {
-            objects,
-            fields,
-            lights: &scene.lights,
-            background: scene.background,
-            ambient_light: scene.settings.ambient_light,
-            max_trace_level: scene.settings.max_trace_level,
-            any_transparent,
-            normals: VertexNormalCache::new(),
-        })
+        Ok(())
     }
 
     /// The nearest hit of `ray` with `t` in `[0, t_max]`: object index and
