@@ -214,6 +214,9 @@ pub struct Tracer<'a, const OBJECTS: usize> {
     ambient_light: Vec3,
     max_trace_level: u32,
     any_transparent: bool,
+    /// Some object is not a height field (camera rays then look for it
+    /// along their unit ray).
+    any_analytic: bool,
     /// Smooth fields' vertex normals, kept from hit to hit (neighbouring
     /// hits share vertices; the same normals as without).
     normals: VertexNormalCache,
@@ -271,6 +274,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             ambient_light: scene.settings.ambient_light,
             max_trace_level: scene.settings.max_trace_level,
             any_transparent: false,
+            any_analytic: false,
             normals: VertexNormalCache::new(),
         }
     }
@@ -336,6 +340,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 return Err(RenderError::NotBuilt { object: index });
             }
             self.any_transparent |= !opaque;
+            self.any_analytic |= !matches!(primitive, Primitive::HeightField { .. });
             let prepared = Prepared {
                 placed: Placed::new(primitive, &object.transform),
                 pigment,
@@ -430,6 +435,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         mut best: Option<(usize, LocalHit)>,
         counters: &mut Counters,
     ) -> Option<(usize, LocalHit)> {
+        if !self.any_analytic {
+            return best;
+        }
         for (i, obj) in self.objects.iter().enumerate() {
             if matches!(obj.placed.primitive(), Primitive::HeightField { .. }) {
                 continue;
