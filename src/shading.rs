@@ -156,7 +156,7 @@ enum Primary<'c, 'h> {
     /// column hints, if any), the other objects along `ray`.
     Camera(&'c CameraRay, Option<&'h mut [ColumnHint]>),
     /// Found already, with the other lanes of its packet.
-    Found(Option<(usize, LocalHit)>),
+    Found(&'h Option<(usize, LocalHit)>),
 }
 
 /// What kind of ray a pending segment is.
@@ -622,7 +622,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         let found = self.nearest_camera_packet(cams, hints, &mut counters);
         stats.add_work(&counters);
         let mut colours = [Vec3::ZERO; LANES];
-        for (l, (colour, found)) in colours.iter_mut().zip(found).enumerate() {
+        for (l, (colour, found)) in colours.iter_mut().zip(&found).enumerate() {
             *colour = self.trace_from(&cams.ray.ray(l), Primary::Found(found), stats);
         }
         colours
@@ -723,17 +723,24 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             Kind::Transmitted => stats.transmitted_rays += 1,
         }
         // (A primary ray's `p.ray` is its camera's unit ray.)
+        let searched;
         let found = match camera {
-            Primary::Camera(cam, hints) => self.nearest_camera_local(cam, hints, counters),
+            Primary::Camera(cam, hints) => {
+                searched = self.nearest_camera_local(cam, hints, counters);
+                &searched
+            }
             Primary::Found(found) => found,
-            Primary::Ray => self.nearest_local(&p.ray, f32::INFINITY, counters),
+            Primary::Ray => {
+                searched = self.nearest_local(&p.ray, f32::INFINITY, counters);
+                &searched
+            }
         };
         let Some((object, local)) = found else {
             return saturate(p.mult * self.background);
         };
         let surface = Surface {
-            object,
-            hit: self.objects[object].placed.to_world(&p.ray, &local),
+            object: *object,
+            hit: self.objects[*object].placed.to_world(&p.ray, local),
         };
         stats.hits += 1;
         let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
