@@ -1015,7 +1015,7 @@ impl<'a> HeightField<'a> {
         match self.numeric {
             Numeric::F32 => {
                 let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
-                traversal::nearest(self, &g, t_min, t_max, true, counters).is_some()
+                self.occludes_mapped(ray, &g, t_min, t_max, counters)
             }
             #[cfg(feature = "f64-walk")]
             Numeric::F64 => self
@@ -1030,6 +1030,24 @@ impl<'a> HeightField<'a> {
                 .intersect_as::<crate::real::Q32>(ray, t_min, t_max, true, counters)
                 .is_some(),
         }
+    }
+
+    /// [`occludes`](Self::occludes) of `ray`, whose grid ray in `f32`
+    /// (`grid_ray` of its origin and direction) the caller has made
+    /// already: the `f32` walk takes it as it is.
+    #[inline]
+    pub(crate) fn occludes_mapped(
+        &self,
+        ray: &Ray,
+        grid: &GridRay<f32>,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> bool {
+        if self.numeric != Numeric::F32 {
+            return self.occludes(ray, t_min, t_max, counters);
+        }
+        traversal::nearest(self, grid, t_min, t_max, true, counters).is_some()
     }
 
     /// A hit's world point: `ray.at(t)`, or, when that overflows, the

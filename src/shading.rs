@@ -88,7 +88,7 @@ use crate::render_error::{RenderError, MAX_AA};
 use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
 use crate::stats::Stats;
-use crate::traversal::Counters;
+use crate::traversal::{Counters, GridRay};
 
 /// The largest colour magnitude a traced ray returns: `f32::MAX` over the
 /// most samples a pixel averages (`MAX_AA²` = 256), so that the renderer's
@@ -953,14 +953,21 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         counters: &mut Counters,
     ) -> Vec3 {
         stats.shadow_rays += 1;
-        let origin = self.offset(obj, hit, l);
+        let (origin, grid) = self.offset_mapped(obj, hit, l);
         let t_max = (light.position - origin).dot(l);
         if !(t_max > 0.0) {
             return light.color;
         }
         let ray = Ray::new(origin, l);
         for o in self.objects.iter().filter(|o| o.opaque) {
-            if o.placed.occludes(&ray, 0.0, t_max, self.fields, counters) {
+            let blocked = match &grid {
+                // The field the ray leaves: `offset_mapped` has its grid ray.
+                Some(g) if core::ptr::eq(o, obj) => {
+                    self.fields[o.field_index].occludes_mapped(&ray, g, 0.0, t_max, counters)
+                }
+                _ => o.placed.occludes(&ray, 0.0, t_max, self.fields, counters),
+            };
+            if blocked {
                 stats.shadow_hits += 1;
                 return Vec3::ZERO;
             }
@@ -1006,6 +1013,19 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// Origin for a ray leaving `hit` along `dir` (see the module docs).
     #[inline]
     fn offset(&self, obj: &Prepared, hit: &WorldHit, dir: Vec3) -> Vec3 {
+        self.offset_mapped(obj, hit, dir).0
+    }
+
+    /// [`offset`](Self::offset), and on a height field the ray from there
+    /// along `dir` in the field's grid space (`f32`), which the check made,
+    /// if it succeeded.
+    #[inline]
+    fn offset_mapped(
+        &self,
+        obj: &Prepared,
+        hit: &WorldHit,
+        dir: Vec3,
+    ) -> (Vec3, Option<GridRay<f32>>) {
         let side = if dir.dot(hit.normal) >= 0.0 {
             1.0
         } else {
@@ -1016,26 +1036,29 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let mut delta = FIELD_OFFSET_START;
             for _ in 0..FIELD_OFFSET_TRIES {
                 let o = hit.point + obj.field_up * (delta * side);
-                if starts_on_side(field, o, dir, side) {
-                    return o;
+                let g = field.grid_ray(o.to_array(), dir.to_array());
+                if starts_on_side(field, &g, side) {
+                    return (o, Some(g));
                 }
                 delta *= 2.0;
             }
-            hit.point + obj.field_up * (delta * side)
+            (hit.point + obj.field_up * (delta * side), None)
         } else {
             let scale = hit.point.abs().max_element().max(1.0);
-            hit.point + hit.normal * (SURFACE_OFFSET * scale * side)
+            (
+                hit.point + hit.normal * (SURFACE_OFFSET * scale * side),
+                None,
+            )
         }
     }
 }
 
-/// `true` if the height-field walk, started at `origin` along `dir`, sees
-/// the ray strictly on the `side` (+1 above, −1 below) of the surface at
-/// its first sample, computed exactly as the walk computes it (`f32`, grid
-/// space, same cell choice). Origins outside the grid's footprint pass:
-/// the walk then starts at the box's side, away from the hit.
-fn starts_on_side(field: &HeightField<'_>, origin: Vec3, dir: Vec3, side: f32) -> bool {
-    let g = field.grid_ray::<f32>(origin.to_array(), dir.to_array());
+/// `true` if the height-field walk of `g` (a world ray in `field`'s grid
+/// space, `f32`) sees the ray strictly on the `side` (+1 above, −1 below)
+/// of the surface at its first sample, computed exactly as the walk
+/// computes it (same cell choice). Origins outside the grid's footprint
+/// pass: the walk then starts at the box's side, away from the hit.
+fn starts_on_side(field: &HeightField<'_>, g: &GridRay<f32>, side: f32) -> bool {
     let [u, y, v] = g.origin;
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;
