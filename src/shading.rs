@@ -587,7 +587,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
 
     /// The linear colour seen along the primary `ray` (unit direction).
     pub fn trace(&self, ray: &Ray, stats: &mut Stats) -> Vec3 {
-        self.trace_from(ray, Primary::Ray, stats)
+        self.trace_counted(ray, Primary::Ray, stats)
     }
 
     /// The linear colour seen along a camera ray: its first hit found by
@@ -600,7 +600,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         hints: Option<&mut [ColumnHint]>,
         stats: &mut Stats,
     ) -> Vec3 {
-        self.trace_from(&cam.ray, Primary::Camera(cam, hints), stats)
+        self.trace_counted(&cam.ray, Primary::Camera(cam, hints), stats)
     }
 
     /// [`trace_camera`](Self::trace_camera) of each lane of `cams`
@@ -618,13 +618,15 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             // No segment is traced, so nothing is walked (or counted).
             return core::array::from_fn(|l| self.trace_camera(&cams.camera_ray(l), None, stats));
         }
+        // One set of counters for the packet's walks and all its lanes'.
         let mut counters = Counters::default();
         let found = self.nearest_camera_packet(cams, hints, &mut counters);
-        stats.add_work(&counters);
         let mut colours = [Vec3::ZERO; LANES];
         for (l, (colour, found)) in colours.iter_mut().zip(&found).enumerate() {
-            *colour = self.trace_from(&cams.ray.ray(l), Primary::Found(found), stats);
+            let ray = cams.ray.ray(l);
+            *colour = self.trace_from(&ray, Primary::Found(found), stats, &mut counters);
         }
+        stats.add_work(&counters);
         colours
     }
 
@@ -669,8 +671,24 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         })
     }
 
-    fn trace_from(&self, ray: &Ray, camera: Primary<'_, '_>, stats: &mut Stats) -> Vec3 {
+    /// [`trace_from`](Self::trace_from) with its height-field work added
+    /// to `stats`.
+    fn trace_counted(&self, ray: &Ray, camera: Primary<'_, '_>, stats: &mut Stats) -> Vec3 {
         let mut counters = Counters::default();
+        let colour = self.trace_from(ray, camera, stats, &mut counters);
+        stats.add_work(&counters);
+        colour
+    }
+
+    /// The colour seen along the primary `ray`, its first hit found as
+    /// `camera` says; its height-field work added to `counters`.
+    fn trace_from(
+        &self,
+        ray: &Ray,
+        camera: Primary<'_, '_>,
+        stats: &mut Stats,
+        counters: &mut Counters,
+    ) -> Vec3 {
         let mut pending: Vec<Pending, PENDING_CAPACITY> = Vec::new();
         // The primary ray is traced first and directly (not through the
         // stack, which is mostly never used).
@@ -681,10 +699,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             level: 0,
             kind: Kind::Primary,
         };
-        let mut colour =
-            Vec3::ZERO + self.segment(&primary, camera, &mut pending, stats, &mut counters);
+        let mut colour = Vec3::ZERO + self.segment(&primary, camera, &mut pending, stats, counters);
         if pending.is_empty() {
-            stats.add_work(&counters);
             // A saturated term plus zero: `saturate` would not change it.
             return colour;
         }
@@ -696,9 +712,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 break;
             }
             segments += 1;
-            colour += self.segment(&p, Primary::Ray, &mut pending, stats, &mut counters);
+            colour += self.segment(&p, Primary::Ray, &mut pending, stats, counters);
         }
-        stats.add_work(&counters);
         saturate(colour)
     }
 
