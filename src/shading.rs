@@ -422,21 +422,22 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 }
             }
         }
-        self.nearest_analytic(&cam.ray, best_t, best, counters)
+        self.nearest_analytic(&cam.ray, best_t, &mut best, counters);
+        best
     }
 
-    /// The nearest hit along `ray` of the objects that are not height
-    /// fields, if nearer than `best_t`; else `best` (the height fields' hit,
-    /// at `best_t`).
+    /// Replaces `best` (the height fields' hit, at `best_t`) with the
+    /// nearest hit along `ray` of the objects that are not height fields,
+    /// if nearer. In place: a packet's hits are not copied.
     fn nearest_analytic(
         &self,
         ray: &Ray,
         mut best_t: f32,
-        mut best: Option<(usize, LocalHit)>,
+        best: &mut Option<(usize, LocalHit)>,
         counters: &mut Counters,
-    ) -> Option<(usize, LocalHit)> {
+    ) {
         if !self.any_analytic {
-            return best;
+            return;
         }
         for (i, obj) in self.objects.iter().enumerate() {
             if matches!(obj.placed.primitive(), Primitive::HeightField { .. }) {
@@ -447,10 +448,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 .intersect_local(ray, 0.0, best_t, self.fields, counters)
             {
                 best_t = h.t();
-                best = Some((i, h));
+                *best = Some((i, h));
             }
         }
-        best
     }
 
     /// Distance along `ray` (parameter `t`; a distance when the direction
@@ -620,7 +620,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         }
         // One set of counters for the packet's walks and all its lanes'.
         let mut counters = Counters::default();
-        let found = self.nearest_camera_packet(cams, hints, &mut counters);
+        let mut found = [None; LANES];
+        self.nearest_camera_packet(cams, hints, &mut found, &mut counters);
         let mut colours = [Vec3::ZERO; LANES];
         for (l, (colour, found)) in colours.iter_mut().zip(&found).enumerate() {
             let ray = cams.ray.ray(l);
@@ -633,16 +634,17 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// [`nearest_camera_local`](Self::nearest_camera_local) of each lane of
     /// `cams` (`hints` as for
     /// [`depth_camera_packet`](Self::depth_camera_packet)): the height fields
-    /// walked as one packet.
+    /// walked as one packet. Into `best` (all `None`), which returning them
+    /// would copy.
     #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
     fn nearest_camera_packet(
         &self,
         cams: &CameraPacket,
         mut hints: Option<&mut [ColumnHint]>,
+        best: &mut [Option<(usize, LocalHit)>; LANES],
         counters: &mut Counters,
-    ) -> [Option<(usize, LocalHit)>; LANES] {
+    ) {
         let mut best_t = [f32::INFINITY; LANES];
-        let mut best = [None; LANES];
         for (i, obj) in self.objects.iter().enumerate() {
             let Primitive::HeightField { field_index } = *obj.placed.primitive() else {
                 continue;
@@ -666,9 +668,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 }
             }
         }
-        core::array::from_fn(|l| {
-            self.nearest_analytic(&cams.ray.ray(l), best_t[l], best[l], counters)
-        })
+        for (l, best) in best.iter_mut().enumerate() {
+            self.nearest_analytic(&cams.ray.ray(l), best_t[l], best, counters);
+        }
     }
 
     /// [`trace_from`](Self::trace_from) with its height-field work added
