@@ -652,21 +652,15 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let Some(field) = self.fields.get(field_index) else {
                 continue;
             };
-            let hits = match lane_hints(&mut hints, self.fields.len(), field_index) {
-                Some(lanes) => {
-                    field.intersect_coherent_packet(&cams.walk, 0.0, f32::INFINITY, lanes, counters)
+            let lanes = lane_hints(&mut hints, self.fields.len(), field_index);
+            let walk = &cams.walk;
+            field.packet_hits_each(walk, 0.0, f32::INFINITY, lanes, counters, |l, mut h| {
+                h.t *= cams.length[l];
+                if h.t < best_t[l] {
+                    best_t[l] = h.t;
+                    best[l] = Some((i, LocalHit::Field(h)));
                 }
-                None => field.intersect_packet(&cams.walk, 0.0, f32::INFINITY, counters),
-            };
-            for (l, hit) in hits.into_iter().enumerate() {
-                if let Some(mut h) = hit {
-                    h.t *= cams.length[l];
-                    if h.t < best_t[l] {
-                        best_t[l] = h.t;
-                        best[l] = Some((i, LocalHit::Field(h)));
-                    }
-                }
-            }
+            });
         }
         for (l, best) in best.iter_mut().enumerate() {
             self.nearest_analytic(&cams.ray.ray(l), best_t[l], best, counters);
