@@ -82,7 +82,7 @@ use crate::camera::{CameraPacket, CameraRay};
 use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
 use crate::packet::LANES;
-use crate::ray::Ray;
+use crate::ray::{FieldHit, Ray};
 use crate::real::Real;
 use crate::render_error::{RenderError, MAX_AA};
 use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
@@ -230,10 +230,23 @@ struct Paint {
     transmit: f32,
 }
 
-/// Everything known about the nearest hit of a ray.
-struct Surface {
-    object: usize,
-    hit: WorldHit,
+/// Where a ray meets a surface, as shading needs it: a [`WorldHit`]
+/// without `t`, its height-field details borrowed, not copied.
+struct Surface<'h> {
+    point: Vec3,
+    /// Unit geometric normal, not flipped towards the ray.
+    normal: Vec3,
+    field: Option<&'h FieldHit>,
+}
+
+impl<'h> Surface<'h> {
+    fn of(hit: &'h WorldHit) -> Self {
+        Surface {
+            point: hit.point,
+            normal: hit.normal,
+            field: hit.field.as_ref(),
+        }
+    }
 }
 
 impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
@@ -754,13 +767,15 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         let Some((object, local)) = found else {
             return saturate(p.mult * self.background);
         };
+        let obj = &self.objects[*object];
+        let (point, normal, field) = obj.placed.world_parts(&p.ray, local);
         let surface = Surface {
-            object: *object,
-            hit: self.objects[*object].placed.to_world(&p.ray, local),
+            point,
+            normal,
+            field,
         };
         stats.hits += 1;
-        let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
-        let local = saturate(self.shade(p, &surface, hit_level, pending, stats, counters));
+        let local = saturate(self.shade(p, obj, &surface, pending, stats, counters));
         // A primary ray's multiplier is one: `1 · local` is `local`, already
         // saturated.
         if p.kind == Kind::Primary {
@@ -769,20 +784,20 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         saturate(p.mult * local)
     }
 
-    /// Local colour at a hit; pushes the reflected and continued rays.
+    /// Local colour where `p` meets `obj` at `hit`; pushes the reflected
+    /// and continued rays.
     fn shade(
         &self,
         p: &Pending,
-        s: &Surface,
-        hit_level: u32,
+        obj: &Prepared,
+        hit: &Surface,
         pending: &mut Vec<Pending, PENDING_CAPACITY>,
         stats: &mut Stats,
         counters: &mut Counters,
     ) -> Vec3 {
-        let obj = &self.objects[s.object];
-        let hit = &s.hit;
+        let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
         let d = p.ray.direction;
-        let field = hit.field.as_ref();
+        let field = hit.field;
 
         // Normals: each flipped by its own dot with the ray, as POV-Ray.
         let geometric = hit.normal;
@@ -866,7 +881,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// Pigment colour, filter and transmit at a hit (a gradient's colour
     /// map at the point; palette colouring for height fields).
     #[inline]
-    fn surface_colour(&self, obj: &Prepared, hit: &WorldHit) -> Paint {
+    fn surface_colour(&self, obj: &Prepared, hit: &Surface) -> Paint {
         let pigment = obj.pigment;
         let mut paint = match obj.color_map {
             Some(map) => {
@@ -886,7 +901,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             },
         };
         if obj.palette {
-            if let Some(fh) = &hit.field {
+            if let Some(fh) = hit.field {
                 if let Some(c) = self.fields[obj.field_index].triangle_palette_color(
                     fh.cell_x,
                     fh.cell_z,
@@ -910,7 +925,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     fn light_term(
         &self,
         obj: &Prepared,
-        hit: &WorldHit,
+        hit: &Surface,
         n: Vec3,
         d: Vec3,
         colour: Vec3,
@@ -965,7 +980,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     fn light_reaching(
         &self,
         obj: &Prepared,
-        hit: &WorldHit,
+        hit: &Surface,
         l: Vec3,
         light: &Light,
         stats: &mut Stats,
@@ -1012,6 +1027,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 let Some(h) = o.placed.intersect(&r, 0.0, t_max, self.fields, counters) else {
                     break;
                 };
+                let h = Surface::of(&h);
                 crossings += 1;
                 filtered = true;
                 let paint = self.surface_colour(o, &h);
@@ -1031,7 +1047,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
 
     /// Origin for a ray leaving `hit` along `dir` (see the module docs).
     #[inline]
-    fn offset(&self, obj: &Prepared, hit: &WorldHit, dir: Vec3) -> Vec3 {
+    fn offset(&self, obj: &Prepared, hit: &Surface, dir: Vec3) -> Vec3 {
         self.offset_mapped(obj, hit, dir).0
     }
 
@@ -1042,7 +1058,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     fn offset_mapped(
         &self,
         obj: &Prepared,
-        hit: &WorldHit,
+        hit: &Surface,
         dir: Vec3,
     ) -> (Vec3, Option<GridRay<f32>>) {
         let side = if dir.dot(hit.normal) >= 0.0 {
