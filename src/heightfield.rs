@@ -679,21 +679,6 @@ impl<'a> HeightField<'a> {
         self.packet_hits(rays, t_min, t_max, None, counters)
     }
 
-    /// [`intersect_coherent`](Self::intersect_coherent) for each of `rays`
-    /// (neighbouring pixels of a row), lane `l` with the hint `hints[l]`:
-    /// the same hits as [`intersect_packet`](Self::intersect_packet), and
-    /// the hints left as the rays one by one would leave them.
-    pub(crate) fn intersect_coherent_packet(
-        &self,
-        rays: &RayPacket,
-        t_min: f32,
-        t_max: f32,
-        hints: [&mut ColumnHint; LANES],
-        counters: &mut Counters,
-    ) -> [Option<FieldHit>; LANES] {
-        self.packet_hits(rays, t_min, t_max, Some(hints), counters)
-    }
-
     /// [`intersect_t`](Self::intersect_t) for each of `rays`, as
     /// [`intersect_packet`](Self::intersect_packet).
     pub fn intersect_t_packet(
@@ -706,7 +691,10 @@ impl<'a> HeightField<'a> {
         self.packet_ts(rays, t_min, t_max, None, counters)
     }
 
-    /// [`intersect_coherent_packet`](Self::intersect_coherent_packet)'s `t`s.
+    /// [`intersect_t_packet`](Self::intersect_t_packet) with
+    /// [`intersect_coherent`](Self::intersect_coherent)'s hints, lane `l`
+    /// with `hints[l]`: the same `t`s, and the hints left as the rays one
+    /// by one would leave them.
     pub(crate) fn intersect_t_coherent_packet(
         &self,
         rays: &RayPacket,
@@ -718,8 +706,8 @@ impl<'a> HeightField<'a> {
         self.packet_ts(rays, t_min, t_max, Some(hints), counters)
     }
 
-    /// The packet entries' hits: walked as a packet in `f32`, coherently
-    /// with `hints`; the other numeric paths ray by ray.
+    /// The packet entries' hits: [`packet_hits_each`](Self::packet_hits_each)'s,
+    /// lane by lane.
     #[inline(always)]
     fn packet_hits(
         &self,
@@ -729,18 +717,52 @@ impl<'a> HeightField<'a> {
         hints: Option<[&mut ColumnHint; LANES]>,
         counters: &mut Counters,
     ) -> [Option<FieldHit>; LANES] {
+        let mut hits = [None; LANES];
+        self.packet_hits_each(rays, t_min, t_max, hints, counters, |l, hit| {
+            hits[l] = Some(hit)
+        });
+        hits
+    }
+
+    /// [`intersect_counted`](Self::intersect_counted) for each of `rays`,
+    /// or with `hints` [`intersect_coherent`](Self::intersect_coherent),
+    /// lane `l` with `hints[l]`: walked as a packet in `f32`, the other
+    /// numeric paths ray by ray. Each hit is handed to `hit` with its lane
+    /// as it is completed (the tracer keeps the nearest where it wants it:
+    /// an array of them would be copied). Out of line: inlined into the
+    /// tracer, whose packet walk it holds, it cost bench512 105
+    /// instructions a pixel more.
+    #[inline(never)]
+    pub(crate) fn packet_hits_each(
+        &self,
+        rays: &RayPacket,
+        t_min: f32,
+        t_max: f32,
+        hints: Option<[&mut ColumnHint; LANES]>,
+        counters: &mut Counters,
+        mut hit: impl FnMut(usize, FieldHit),
+    ) {
         if !matches!(self.numeric, Numeric::F32) {
             let mut hints = hints.map(|h| h.into_iter());
-            return core::array::from_fn(|l| match hints.as_mut() {
-                Some(lanes) => {
-                    let hint = lanes.next()?;
-                    self.intersect_coherent(&rays.ray(l), t_min, t_max, hint, counters)
+            for l in 0..LANES {
+                let found = match hints.as_mut() {
+                    Some(lanes) => lanes.next().and_then(|hint| {
+                        self.intersect_coherent(&rays.ray(l), t_min, t_max, hint, counters)
+                    }),
+                    None => self.intersect_counted(&rays.ray(l), t_min, t_max, counters),
+                };
+                if let Some(h) = found {
+                    hit(l, h);
                 }
-                None => self.intersect_counted(&rays.ray(l), t_min, t_max, counters),
-            });
+            }
+            return;
         }
         let hits = self.grid_hits(rays, t_min, t_max, hints, counters);
-        core::array::from_fn(|l| Some(self.finish_hit(&rays.ray(l), hits[l].as_ref()?)))
+        for (l, h) in hits.iter().enumerate() {
+            if let Some(h) = h {
+                hit(l, self.finish_hit(&rays.ray(l), h));
+            }
+        }
     }
 
     /// [`packet_hits`](Self::packet_hits)' `t`s, without completing the
@@ -1023,7 +1045,7 @@ impl<'a> HeightField<'a> {
         match self.numeric {
             Numeric::F32 => {
                 let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
-                traversal::nearest(self, &g, t_min, t_max, true, counters).is_some()
+                self.occludes_mapped(ray, &g, t_min, t_max, counters)
             }
             #[cfg(feature = "f64-walk")]
             Numeric::F64 => self
@@ -1038,6 +1060,24 @@ impl<'a> HeightField<'a> {
                 .intersect_as::<crate::real::Q32>(ray, t_min, t_max, true, counters)
                 .is_some(),
         }
+    }
+
+    /// [`occludes`](Self::occludes) of `ray`, whose grid ray in `f32`
+    /// (`grid_ray` of its origin and direction) the caller has made
+    /// already: the `f32` walk takes it as it is.
+    #[inline]
+    pub(crate) fn occludes_mapped(
+        &self,
+        ray: &Ray,
+        grid: &GridRay<f32>,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> bool {
+        if self.numeric != Numeric::F32 {
+            return self.occludes(ray, t_min, t_max, counters);
+        }
+        traversal::nearest(self, grid, t_min, t_max, true, counters).is_some()
     }
 
     /// A hit's world point: `ray.at(t)`, or, when that overflows, the

@@ -322,7 +322,9 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     check(settings, line.len())?;
     check_hints(settings, fields.len(), &hints)?;
     let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
-    let tracer = Tracer::new(scene, fields)?;
+    // Made where it stays (see `Tracer::empty`).
+    let mut tracer = Tracer::empty(scene, fields);
+    tracer.prepare(scene)?;
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     let n = settings.aa;
     if PACKETS && n == 1 {
@@ -405,7 +407,8 @@ fn render_depth_with<const O: usize, const L: usize, const G: usize>(
     check(settings, line.len())?;
     check_hints(settings, fields.len(), &hints)?;
     let camera = Camera::new(&scene.camera, settings.width, settings.height)?;
-    let tracer = Tracer::new(scene, fields)?;
+    let mut tracer = Tracer::empty(scene, fields);
+    tracer.prepare(scene)?;
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     // (Hints are kept `aa²` to a column, of which the depth AOV uses the
     // first: packets take `fields` to a column, so with `aa > 1` the

@@ -82,13 +82,13 @@ use crate::camera::{CameraPacket, CameraRay};
 use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
 use crate::packet::LANES;
-use crate::ray::Ray;
+use crate::ray::{FieldHit, Ray};
 use crate::real::Real;
 use crate::render_error::{RenderError, MAX_AA};
 use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
 use crate::stats::Stats;
-use crate::traversal::Counters;
+use crate::traversal::{Counters, GridRay};
 
 /// The largest colour magnitude a traced ray returns: `f32::MAX` over the
 /// most samples a pixel averages (`MAX_AA²` = 256), so that the renderer's
@@ -156,7 +156,7 @@ enum Primary<'c, 'h> {
     /// column hints, if any), the other objects along `ray`.
     Camera(&'c CameraRay, Option<&'h mut [ColumnHint]>),
     /// Found already, with the other lanes of its packet.
-    Found(Option<(usize, LocalHit)>),
+    Found(&'h Option<(usize, LocalHit)>),
 }
 
 /// What kind of ray a pending segment is.
@@ -214,6 +214,9 @@ pub struct Tracer<'a, const OBJECTS: usize> {
     ambient_light: Vec3,
     max_trace_level: u32,
     any_transparent: bool,
+    /// Some object is not a height field (camera rays then look for it
+    /// along their unit ray).
+    any_analytic: bool,
     /// Smooth fields' vertex normals, kept from hit to hit (neighbouring
     /// hits share vertices; the same normals as without).
     normals: VertexNormalCache,
@@ -227,10 +230,23 @@ struct Paint {
     transmit: f32,
 }
 
-/// Everything known about the nearest hit of a ray.
-struct Surface {
-    object: usize,
-    hit: WorldHit,
+/// Where a ray meets a surface, as shading needs it: a [`WorldHit`]
+/// without `t`, its height-field details borrowed, not copied.
+struct Surface<'h> {
+    point: Vec3,
+    /// Unit geometric normal, not flipped towards the ray.
+    normal: Vec3,
+    field: Option<&'h FieldHit>,
+}
+
+impl<'h> Surface<'h> {
+    fn of(hit: &'h WorldHit) -> Self {
+        Surface {
+            point: hit.point,
+            normal: hit.normal,
+            field: hit.field.as_ref(),
+        }
+    }
 }
 
 impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
@@ -250,8 +266,39 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
         fields: &'a [HeightField<'a>],
     ) -> Result<Self, RenderError> {
-        let mut objects: Vec<Prepared<'a>, OBJECTS> = Vec::new();
-        let mut any_transparent = false;
+        let mut tracer = Self::empty(scene, fields);
+        tracer.prepare(scene)?;
+        Ok(tracer)
+    }
+
+    /// A tracer for `scene` with no object prepared yet
+    /// ([`prepare`](Self::prepare) adds them). The renderers make their
+    /// tracer in two steps, where it stays: [`new`](Self::new) hands it
+    /// back in a `Result`, a copy of all of it (21 KiB with 64 objects).
+    pub(crate) fn empty<const LIGHTS: usize, const GRADIENTS: usize>(
+        scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
+        fields: &'a [HeightField<'a>],
+    ) -> Self {
+        Tracer {
+            objects: Vec::new(),
+            fields,
+            lights: &scene.lights,
+            background: scene.background,
+            ambient_light: scene.settings.ambient_light,
+            max_trace_level: scene.settings.max_trace_level,
+            any_transparent: false,
+            any_analytic: false,
+            normals: VertexNormalCache::new(),
+        }
+    }
+
+    /// Prepares the objects of `scene` (the scene [`empty`](Self::empty)
+    /// was given), as [`new`](Self::new) says.
+    pub(crate) fn prepare<const LIGHTS: usize, const GRADIENTS: usize>(
+        &mut self,
+        scene: &'a Scene<'_, OBJECTS, LIGHTS, GRADIENTS>,
+    ) -> Result<(), RenderError> {
+        let fields = self.fields;
         for (index, object) in scene.objects.iter().enumerate() {
             let primitive =
                 Primitive::from_shape(&object.shape).map_err(|error| RenderError::Shape {
@@ -305,7 +352,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             if !cfg!(feature = "secondary-rays") && (reflective || !opaque) {
                 return Err(RenderError::NotBuilt { object: index });
             }
-            any_transparent |= !opaque;
+            self.any_transparent |= !opaque;
+            self.any_analytic |= !matches!(primitive, Primitive::HeightField { .. });
             let prepared = Prepared {
                 placed: Placed::new(primitive, &object.transform),
                 pigment,
@@ -322,18 +370,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 field_index,
             };
             // Cannot fail: the scene holds at most OBJECTS objects.
-            let _ = objects.push(prepared);
+            let _ = self.objects.push(prepared);
         }
-        Ok(Tracer {
-            objects,
-            fields,
-            lights: &scene.lights,
-            background: scene.background,
-            ambient_light: scene.settings.ambient_light,
-            max_trace_level: scene.settings.max_trace_level,
-            any_transparent,
-            normals: VertexNormalCache::new(),
-        })
+        Ok(())
     }
 
     /// The nearest hit of `ray` with `t` in `[0, t_max]`: object index and
@@ -396,19 +435,23 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 }
             }
         }
-        self.nearest_analytic(&cam.ray, best_t, best, counters)
+        self.nearest_analytic(&cam.ray, best_t, &mut best, counters);
+        best
     }
 
-    /// The nearest hit along `ray` of the objects that are not height
-    /// fields, if nearer than `best_t`; else `best` (the height fields' hit,
-    /// at `best_t`).
+    /// Replaces `best` (the height fields' hit, at `best_t`) with the
+    /// nearest hit along `ray` of the objects that are not height fields,
+    /// if nearer. In place: a packet's hits are not copied.
     fn nearest_analytic(
         &self,
         ray: &Ray,
         mut best_t: f32,
-        mut best: Option<(usize, LocalHit)>,
+        best: &mut Option<(usize, LocalHit)>,
         counters: &mut Counters,
-    ) -> Option<(usize, LocalHit)> {
+    ) {
+        if !self.any_analytic {
+            return;
+        }
         for (i, obj) in self.objects.iter().enumerate() {
             if matches!(obj.placed.primitive(), Primitive::HeightField { .. }) {
                 continue;
@@ -418,10 +461,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 .intersect_local(ray, 0.0, best_t, self.fields, counters)
             {
                 best_t = h.t();
-                best = Some((i, h));
+                *best = Some((i, h));
             }
         }
-        best
     }
 
     /// Distance along `ray` (parameter `t`; a distance when the direction
@@ -558,7 +600,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
 
     /// The linear colour seen along the primary `ray` (unit direction).
     pub fn trace(&self, ray: &Ray, stats: &mut Stats) -> Vec3 {
-        self.trace_from(ray, Primary::Ray, stats)
+        self.trace_counted(ray, Primary::Ray, stats)
     }
 
     /// The linear colour seen along a camera ray: its first hit found by
@@ -571,7 +613,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         hints: Option<&mut [ColumnHint]>,
         stats: &mut Stats,
     ) -> Vec3 {
-        self.trace_from(&cam.ray, Primary::Camera(cam, hints), stats)
+        self.trace_counted(&cam.ray, Primary::Camera(cam, hints), stats)
     }
 
     /// [`trace_camera`](Self::trace_camera) of each lane of `cams`
@@ -589,29 +631,33 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             // No segment is traced, so nothing is walked (or counted).
             return core::array::from_fn(|l| self.trace_camera(&cams.camera_ray(l), None, stats));
         }
+        // One set of counters for the packet's walks and all its lanes'.
         let mut counters = Counters::default();
-        let found = self.nearest_camera_packet(cams, hints, &mut counters);
-        stats.add_work(&counters);
+        let mut found = [None; LANES];
+        self.nearest_camera_packet(cams, hints, &mut found, &mut counters);
         let mut colours = [Vec3::ZERO; LANES];
-        for (l, (colour, found)) in colours.iter_mut().zip(found).enumerate() {
-            *colour = self.trace_from(&cams.ray.ray(l), Primary::Found(found), stats);
+        for (l, (colour, found)) in colours.iter_mut().zip(&found).enumerate() {
+            let ray = cams.ray.ray(l);
+            *colour = self.trace_from(&ray, Primary::Found(found), stats, &mut counters);
         }
+        stats.add_work(&counters);
         colours
     }
 
     /// [`nearest_camera_local`](Self::nearest_camera_local) of each lane of
     /// `cams` (`hints` as for
     /// [`depth_camera_packet`](Self::depth_camera_packet)): the height fields
-    /// walked as one packet.
+    /// walked as one packet. Into `best` (all `None`), which returning them
+    /// would copy.
     #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
     fn nearest_camera_packet(
         &self,
         cams: &CameraPacket,
         mut hints: Option<&mut [ColumnHint]>,
+        best: &mut [Option<(usize, LocalHit)>; LANES],
         counters: &mut Counters,
-    ) -> [Option<(usize, LocalHit)>; LANES] {
+    ) {
         let mut best_t = [f32::INFINITY; LANES];
-        let mut best = [None; LANES];
         for (i, obj) in self.objects.iter().enumerate() {
             let Primitive::HeightField { field_index } = *obj.placed.primitive() else {
                 continue;
@@ -619,29 +665,44 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let Some(field) = self.fields.get(field_index) else {
                 continue;
             };
-            let hits = match lane_hints(&mut hints, self.fields.len(), field_index) {
-                Some(lanes) => {
-                    field.intersect_coherent_packet(&cams.walk, 0.0, f32::INFINITY, lanes, counters)
+            let lanes = lane_hints(&mut hints, self.fields.len(), field_index);
+            let walk = &cams.walk;
+            field.packet_hits_each(walk, 0.0, f32::INFINITY, lanes, counters, |l, mut h| {
+                h.t *= cams.length[l];
+                if h.t < best_t[l] {
+                    best_t[l] = h.t;
+                    best[l] = Some((i, LocalHit::Field(h)));
                 }
-                None => field.intersect_packet(&cams.walk, 0.0, f32::INFINITY, counters),
-            };
-            for (l, hit) in hits.into_iter().enumerate() {
-                if let Some(mut h) = hit {
-                    h.t *= cams.length[l];
-                    if h.t < best_t[l] {
-                        best_t[l] = h.t;
-                        best[l] = Some((i, LocalHit::Field(h)));
-                    }
-                }
-            }
+            });
         }
-        core::array::from_fn(|l| {
-            self.nearest_analytic(&cams.ray.ray(l), best_t[l], best[l], counters)
-        })
+        for (l, best) in best.iter_mut().enumerate() {
+            self.nearest_analytic(&cams.ray.ray(l), best_t[l], best, counters);
+        }
     }
 
-    fn trace_from(&self, ray: &Ray, camera: Primary<'_, '_>, stats: &mut Stats) -> Vec3 {
+    /// [`trace_from`](Self::trace_from) with its height-field work added
+    /// to `stats`.
+    fn trace_counted(&self, ray: &Ray, camera: Primary<'_, '_>, stats: &mut Stats) -> Vec3 {
         let mut counters = Counters::default();
+        let colour = self.trace_from(ray, camera, stats, &mut counters);
+        stats.add_work(&counters);
+        colour
+    }
+
+    /// The colour seen along the primary `ray`, its first hit found as
+    /// `camera` says; its height-field work added to `counters`.
+    ///
+    /// Inlined into its two callers (the packet's lane loop and
+    /// [`trace_counted`](Self::trace_counted)): a call per pixel costs its
+    /// frame and the primary ray's copy (bench512: 12 instructions a pixel).
+    #[inline(always)]
+    fn trace_from(
+        &self,
+        ray: &Ray,
+        camera: Primary<'_, '_>,
+        stats: &mut Stats,
+        counters: &mut Counters,
+    ) -> Vec3 {
         let mut pending: Vec<Pending, PENDING_CAPACITY> = Vec::new();
         // The primary ray is traced first and directly (not through the
         // stack, which is mostly never used).
@@ -652,10 +713,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             level: 0,
             kind: Kind::Primary,
         };
-        let mut colour =
-            Vec3::ZERO + self.segment(&primary, camera, &mut pending, stats, &mut counters);
+        let mut colour = Vec3::ZERO + self.segment(&primary, camera, &mut pending, stats, counters);
         if pending.is_empty() {
-            stats.add_work(&counters);
             // A saturated term plus zero: `saturate` would not change it.
             return colour;
         }
@@ -667,9 +726,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 break;
             }
             segments += 1;
-            colour += self.segment(&p, Primary::Ray, &mut pending, stats, &mut counters);
+            colour += self.segment(&p, Primary::Ray, &mut pending, stats, counters);
         }
-        stats.add_work(&counters);
         saturate(colour)
     }
 
@@ -694,21 +752,30 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             Kind::Transmitted => stats.transmitted_rays += 1,
         }
         // (A primary ray's `p.ray` is its camera's unit ray.)
+        let searched;
         let found = match camera {
-            Primary::Camera(cam, hints) => self.nearest_camera_local(cam, hints, counters),
+            Primary::Camera(cam, hints) => {
+                searched = self.nearest_camera_local(cam, hints, counters);
+                &searched
+            }
             Primary::Found(found) => found,
-            Primary::Ray => self.nearest_local(&p.ray, f32::INFINITY, counters),
+            Primary::Ray => {
+                searched = self.nearest_local(&p.ray, f32::INFINITY, counters);
+                &searched
+            }
         };
         let Some((object, local)) = found else {
             return saturate(p.mult * self.background);
         };
+        let obj = &self.objects[*object];
+        let (point, normal, field) = obj.placed.world_parts(&p.ray, local);
         let surface = Surface {
-            object,
-            hit: self.objects[object].placed.to_world(&p.ray, &local),
+            point,
+            normal,
+            field,
         };
         stats.hits += 1;
-        let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
-        let local = saturate(self.shade(p, &surface, hit_level, pending, stats, counters));
+        let local = saturate(self.shade(p, obj, &surface, pending, stats, counters));
         // A primary ray's multiplier is one: `1 · local` is `local`, already
         // saturated.
         if p.kind == Kind::Primary {
@@ -717,20 +784,20 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         saturate(p.mult * local)
     }
 
-    /// Local colour at a hit; pushes the reflected and continued rays.
+    /// Local colour where `p` meets `obj` at `hit`; pushes the reflected
+    /// and continued rays.
     fn shade(
         &self,
         p: &Pending,
-        s: &Surface,
-        hit_level: u32,
+        obj: &Prepared,
+        hit: &Surface,
         pending: &mut Vec<Pending, PENDING_CAPACITY>,
         stats: &mut Stats,
         counters: &mut Counters,
     ) -> Vec3 {
-        let obj = &self.objects[s.object];
-        let hit = &s.hit;
+        let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
         let d = p.ray.direction;
-        let field = hit.field.as_ref();
+        let field = hit.field;
 
         // Normals: each flipped by its own dot with the ray, as POV-Ray.
         let geometric = hit.normal;
@@ -814,7 +881,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// Pigment colour, filter and transmit at a hit (a gradient's colour
     /// map at the point; palette colouring for height fields).
     #[inline]
-    fn surface_colour(&self, obj: &Prepared, hit: &WorldHit) -> Paint {
+    fn surface_colour(&self, obj: &Prepared, hit: &Surface) -> Paint {
         let pigment = obj.pigment;
         let mut paint = match obj.color_map {
             Some(map) => {
@@ -834,7 +901,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             },
         };
         if obj.palette {
-            if let Some(fh) = &hit.field {
+            if let Some(fh) = hit.field {
                 if let Some(c) = self.fields[obj.field_index].triangle_palette_color(
                     fh.cell_x,
                     fh.cell_z,
@@ -849,13 +916,16 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
 
     /// Diffuse, phong and specular from one light.
     // The surface state (object, hit, normals, colour, attenuation) is
-    // passed apart because each caller has it in locals already.
+    // passed apart because each caller has it in locals already. Not
+    // inlined: in the loop over the lights, LLVM hoisted work of the
+    // branches most hits skip (the phong reflection, the analytic-shape
+    // offset) out of it, 12 instructions a pixel more on bench512.
     #[allow(clippy::too_many_arguments)]
-    #[inline]
+    #[inline(never)]
     fn light_term(
         &self,
         obj: &Prepared,
-        hit: &WorldHit,
+        hit: &Surface,
         n: Vec3,
         d: Vec3,
         colour: Vec3,
@@ -910,21 +980,28 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     fn light_reaching(
         &self,
         obj: &Prepared,
-        hit: &WorldHit,
+        hit: &Surface,
         l: Vec3,
         light: &Light,
         stats: &mut Stats,
         counters: &mut Counters,
     ) -> Vec3 {
         stats.shadow_rays += 1;
-        let origin = self.offset(obj, hit, l);
+        let (origin, grid) = self.offset_mapped(obj, hit, l);
         let t_max = (light.position - origin).dot(l);
         if !(t_max > 0.0) {
             return light.color;
         }
         let ray = Ray::new(origin, l);
         for o in self.objects.iter().filter(|o| o.opaque) {
-            if o.placed.occludes(&ray, 0.0, t_max, self.fields, counters) {
+            let blocked = match &grid {
+                // The field the ray leaves: `offset_mapped` has its grid ray.
+                Some(g) if core::ptr::eq(o, obj) => {
+                    self.fields[o.field_index].occludes_mapped(&ray, g, 0.0, t_max, counters)
+                }
+                _ => o.placed.occludes(&ray, 0.0, t_max, self.fields, counters),
+            };
+            if blocked {
                 stats.shadow_hits += 1;
                 return Vec3::ZERO;
             }
@@ -950,6 +1027,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 let Some(h) = o.placed.intersect(&r, 0.0, t_max, self.fields, counters) else {
                     break;
                 };
+                let h = Surface::of(&h);
                 crossings += 1;
                 filtered = true;
                 let paint = self.surface_colour(o, &h);
@@ -969,7 +1047,20 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
 
     /// Origin for a ray leaving `hit` along `dir` (see the module docs).
     #[inline]
-    fn offset(&self, obj: &Prepared, hit: &WorldHit, dir: Vec3) -> Vec3 {
+    fn offset(&self, obj: &Prepared, hit: &Surface, dir: Vec3) -> Vec3 {
+        self.offset_mapped(obj, hit, dir).0
+    }
+
+    /// [`offset`](Self::offset), and on a height field the ray from there
+    /// along `dir` in the field's grid space (`f32`), which the check made,
+    /// if it succeeded.
+    #[inline]
+    fn offset_mapped(
+        &self,
+        obj: &Prepared,
+        hit: &Surface,
+        dir: Vec3,
+    ) -> (Vec3, Option<GridRay<f32>>) {
         let side = if dir.dot(hit.normal) >= 0.0 {
             1.0
         } else {
@@ -980,26 +1071,29 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let mut delta = FIELD_OFFSET_START;
             for _ in 0..FIELD_OFFSET_TRIES {
                 let o = hit.point + obj.field_up * (delta * side);
-                if starts_on_side(field, o, dir, side) {
-                    return o;
+                let g = field.grid_ray(o.to_array(), dir.to_array());
+                if starts_on_side(field, &g, side) {
+                    return (o, Some(g));
                 }
                 delta *= 2.0;
             }
-            hit.point + obj.field_up * (delta * side)
+            (hit.point + obj.field_up * (delta * side), None)
         } else {
             let scale = hit.point.abs().max_element().max(1.0);
-            hit.point + hit.normal * (SURFACE_OFFSET * scale * side)
+            (
+                hit.point + hit.normal * (SURFACE_OFFSET * scale * side),
+                None,
+            )
         }
     }
 }
 
-/// `true` if the height-field walk, started at `origin` along `dir`, sees
-/// the ray strictly on the `side` (+1 above, −1 below) of the surface at
-/// its first sample, computed exactly as the walk computes it (`f32`, grid
-/// space, same cell choice). Origins outside the grid's footprint pass:
-/// the walk then starts at the box's side, away from the hit.
-fn starts_on_side(field: &HeightField<'_>, origin: Vec3, dir: Vec3, side: f32) -> bool {
-    let g = field.grid_ray::<f32>(origin.to_array(), dir.to_array());
+/// `true` if the height-field walk of `g` (a world ray in `field`'s grid
+/// space, `f32`) sees the ray strictly on the `side` (+1 above, −1 below)
+/// of the surface at its first sample, computed exactly as the walk
+/// computes it (same cell choice). Origins outside the grid's footprint
+/// pass: the walk then starts at the box's side, away from the hit.
+fn starts_on_side(field: &HeightField<'_>, g: &GridRay<f32>, side: f32) -> bool {
     let [u, y, v] = g.origin;
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;

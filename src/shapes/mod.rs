@@ -356,23 +356,34 @@ impl Placed {
     /// Completes a local hit into world space.
     #[inline]
     pub fn to_world(&self, ray: &Ray, hit: &LocalHit) -> WorldHit {
-        match *hit {
-            LocalHit::Field(f) => WorldHit {
-                t: f.t,
-                point: f.point,
-                normal: f.normal,
-                field: Some(f),
-            },
-            LocalHit::Shape { t, normal } => WorldHit {
-                t,
-                point: ray.at(t),
-                normal: if self.identity {
+        let (point, normal, field) = self.world_parts(ray, hit);
+        WorldHit {
+            t: hit.t(),
+            point,
+            normal,
+            field: field.copied(),
+        }
+    }
+
+    /// [`to_world`](Self::to_world)'s point and normal, and the height
+    /// field's details borrowed (shading needs no copy of them).
+    #[inline]
+    pub(crate) fn world_parts<'h>(
+        &self,
+        ray: &Ray,
+        hit: &'h LocalHit,
+    ) -> (Vec3, Vec3, Option<&'h FieldHit>) {
+        match hit {
+            LocalHit::Field(f) => (f.point, f.normal, Some(f)),
+            &LocalHit::Shape { t, normal } => (
+                ray.at(t),
+                if self.identity {
                     normal
                 } else {
                     crate::transform::unit_direction(self.normal_matrix * normal)
                 },
-                field: None,
-            },
+                None,
+            ),
         }
     }
 
