@@ -1066,9 +1066,10 @@ impl<'a> HeightField<'a> {
         t_max: f32,
         counters: &mut Counters,
     ) -> bool {
-        match self.numeric {
-            Numeric::F32 => self.occludes_grid(grid, t_min, t_max, counters),
-            _ => self.occludes(ray, t_min, t_max, counters),
+        if self.numeric == Numeric::F32 {
+            self.occludes_grid(grid, t_min, t_max, counters)
+        } else {
+            self.occludes(ray, t_min, t_max, counters)
         }
     }
 
