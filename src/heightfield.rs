@@ -1045,7 +1045,7 @@ impl<'a> HeightField<'a> {
         match self.numeric {
             Numeric::F32 => {
                 let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
-                self.occludes_mapped(ray, &g, t_min, t_max, counters)
+                self.occludes_grid(&g, t_min, t_max, counters)
             }
             #[cfg(feature = "f64-walk")]
             Numeric::F64 => self
@@ -1074,9 +1074,24 @@ impl<'a> HeightField<'a> {
         t_max: f32,
         counters: &mut Counters,
     ) -> bool {
-        if self.numeric != Numeric::F32 {
-            return self.occludes(ray, t_min, t_max, counters);
+        if self.numeric == Numeric::F32 {
+            self.occludes_grid(grid, t_min, t_max, counters)
+        } else {
+            self.occludes(ray, t_min, t_max, counters)
         }
+    }
+
+    /// The `f32` walk of [`occludes`](Self::occludes), the ray in grid
+    /// space: its one call of the walk (the firmware, built for size,
+    /// otherwise kept a copy of the walk for each).
+    #[inline(never)]
+    fn occludes_grid(
+        &self,
+        grid: &GridRay<f32>,
+        t_min: f32,
+        t_max: f32,
+        counters: &mut Counters,
+    ) -> bool {
         traversal::nearest(self, grid, t_min, t_max, true, counters).is_some()
     }
 
