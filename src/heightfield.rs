@@ -1713,17 +1713,18 @@ impl VertexNormalCache {
         let slot = &self.columns[x as usize % Self::COLUMNS];
         let c = slot.get();
         let [low, high] = c.normals.map(Vec3::from_array);
-        let normals = if c.x_field != x_field {
-            [vertex(x, z), vertex(x, z + 1)]
-        } else if c.z == z {
+        // The vertices kept, if any (one call site of `vertex` a vertex, so
+        // that it is inlined once each).
+        let same = c.x_field == x_field;
+        if same && c.z == z {
             return [low, high];
-        } else if c.z == z.wrapping_sub(1) {
-            [high, vertex(x, z + 1)]
-        } else if c.z == z + 1 {
-            [vertex(x, z), low]
-        } else {
-            [vertex(x, z), vertex(x, z + 1)]
-        };
+        }
+        let kept_low = (same && c.z == z.wrapping_sub(1)).then_some(high);
+        let kept_high = (same && c.z == z + 1).then_some(low);
+        let normals = [
+            kept_low.unwrap_or_else(|| vertex(x, z)),
+            kept_high.unwrap_or_else(|| vertex(x, z + 1)),
+        ];
         slot.set(CachedColumn {
             x_field,
             z,
