@@ -1484,7 +1484,6 @@ impl<S: Real> Walk<S> {
     /// The walk may start at any level and use any levels, and the packet
     /// culled the coarser blocks before the line (its last step was of
     /// level 1): it starts at level 1 and climbs no higher.
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn line_start(
         &mut self,
