@@ -29,7 +29,7 @@
 //! neither `up` nor `right` is given, which the model cannot tell apart,
 //! so the parser must apply that rule.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4};
 
 use crate::packet::{self, Lanes, RayPacket, LANES};
 use crate::ray::Ray;
@@ -357,15 +357,26 @@ impl Camera {
     /// bit for bit.
     #[inline]
     pub fn camera_packet(&self, x: &Lanes, y: f32) -> CameraPacket {
-        let x0: Lanes = core::array::from_fn(|l| x[l] * self.inv_width - 0.5);
+        // Lane-wise on `Vec4` pairs (see `packet::normalize_or_zero`).
+        let x = packet::pair(x);
+        let x0 = [
+            x[0] * self.inv_width - Vec4::splat(0.5),
+            x[1] * self.inv_width - Vec4::splat(0.5),
+        ];
         let y0 = 0.5 - y * self.inv_height;
         let (r, u) = (self.right.to_array(), self.up.to_array());
         // `base + R·x0 + U·y0`, as `walk_ray` adds them.
         let plane = |base: Vec3| -> [Lanes; 3] {
             let base = base.to_array();
-            core::array::from_fn(|k| core::array::from_fn(|l| base[k] + r[k] * x0[l] + u[k] * y0))
+            let component = |k: usize| {
+                let half = |h: usize| {
+                    Vec4::splat(base[k]) + Vec4::splat(r[k]) * x0[h] + Vec4::splat(u[k] * y0)
+                };
+                packet::unpair([half(0), half(1)])
+            };
+            [component(0), component(1), component(2)]
         };
-        let splat = |v: Vec3| v.to_array().map(|c| [c; LANES]);
+        let splat = |v: Vec3| [[v.x; LANES], [v.y; LANES], [v.z; LANES]];
         match self.projection {
             Projection::Perspective => {
                 let (origin, direction) = (splat(self.location), plane(self.direction));

@@ -54,7 +54,6 @@
 
 use glam::{BVec4A, Vec3, Vec4};
 
-use crate::math::sqrtf;
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::skip::SkipGrid;
@@ -134,19 +133,46 @@ impl RayPacket {
     }
 }
 
-/// `|v|` of each lane's `v`, as [`crate::math::length`] computes it.
+/// `|v|` of each lane's `v`, as [`crate::math::length`] computes it (a
+/// correctly rounded square root, lane-wise).
 #[inline(always)]
 pub(crate) fn length(v: &[Lanes; 3]) -> Lanes {
-    lanes(|l| sqrtf(v[0][l] * v[0][l] + v[1][l] * v[1][l] + v[2][l] * v[2][l]))
+    let [x, y, z] = [pair(&v[0]), pair(&v[1]), pair(&v[2])];
+    let half = |h: usize| (x[h] * x[h] + y[h] * y[h] + z[h] * z[h]).sqrt();
+    unpair([half(0), half(1)])
 }
 
 /// Each lane's `v` divided by its `length`, or zero where that is not
-/// finite: [`crate::math::normalize_or_zero`], lane-wise.
+/// finite: [`crate::math::normalize_or_zero`], lane-wise. (On `Vec4`
+/// pairs, like every lane-wise step here: LLVM may leave the closures of
+/// `core::array::from_fn` out of line, and did, at a cost of 60
+/// instructions a ray.)
 #[inline(always)]
 pub(crate) fn normalize_or_zero(v: &[Lanes; 3], length: &Lanes) -> [Lanes; 3] {
-    let rcp: Lanes = lanes(|l| 1.0 / length[l]);
-    let ok: [bool; LANES] = lanes(|l| rcp[l] > 0.0 && rcp[l] <= f32::MAX);
-    core::array::from_fn(|k| lanes(|l| if ok[l] { v[k][l] * rcp[l] } else { 0.0 }))
+    let length = pair(length);
+    let rcp = [Vec4::ONE / length[0], Vec4::ONE / length[1]];
+    let ok = |h: usize| rcp[h].cmpgt(Vec4::ZERO) & rcp[h].cmple(Vec4::splat(f32::MAX));
+    let ok = [ok(0), ok(1)];
+    let scale = |k: usize| {
+        let v = pair(&v[k]);
+        let half = |h: usize| Vec4::select(ok[h], v[h] * rcp[h], Vec4::ZERO);
+        unpair([half(0), half(1)])
+    };
+    [scale(0), scale(1), scale(2)]
+}
+
+/// The lanes of `v` as two `Vec4`s (SIMD on desktop targets): lanes 0–3
+/// and 4–7.
+#[inline(always)]
+pub(crate) fn pair(v: &Lanes) -> [Vec4; 2] {
+    [Vec4::from_slice(&v[..4]), Vec4::from_slice(&v[4..])]
+}
+
+/// The lanes of a [`pair`].
+#[inline(always)]
+pub(crate) fn unpair(v: [Vec4; 2]) -> Lanes {
+    let (a, b) = (v[0].to_array(), v[1].to_array());
+    [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
 }
 
 /// [`GridTransform::map_f32`] of each lane's origin and direction.
@@ -185,20 +211,6 @@ pub(crate) fn map_f32(map: &GridTransform, rays: &RayPacket) -> RayPacket {
             unpair(apply(&direction, 2)),
         ],
     }
-}
-
-/// The lanes of `v` as two `Vec4`s (SIMD on desktop targets): lanes 0–3
-/// and 4–7.
-#[inline(always)]
-fn pair(v: &Lanes) -> [Vec4; 2] {
-    [Vec4::from_slice(&v[..4]), Vec4::from_slice(&v[4..])]
-}
-
-/// The lanes of a [`pair`].
-#[inline(always)]
-fn unpair(v: [Vec4; 2]) -> Lanes {
-    let (a, b) = (v[0].to_array(), v[1].to_array());
-    lanes(|l| if l < 4 { a[l] } else { b[l - 4] })
 }
 
 /// `[t_min, t_max]` clipped lane-wise to the slab `lo..=hi` along an axis
@@ -493,7 +505,7 @@ fn shared_start<F: WalkGrid>(
         let v = Vec4::from_slice(&v[quad..quad + 4]);
         Vec4::select(mask, v, Vec4::splat(v[lead]))
     };
-    let (o, d) = (&rays.origin, &rays.direction);
+    let d = &rays.direction;
     let (d_u, d_v) = (fill(&d[0]), fill(&d[2]));
     // The axis: every lane moving along it the same way; of two, the one
     // the rays move along faster (shorter steps in `t`).
@@ -513,11 +525,49 @@ fn shared_start<F: WalkGrid>(
         (0, _) => false,
         _ => Real::abs(d_u[lead]) >= Real::abs(d_v[lead]),
     };
-    let (a, b, step) = if along_u {
-        (0, 2, way_u)
-    } else {
-        (2, 0, way_v)
+    let (d_u, d_v) = (d_u, d_v);
+    macro_rules! build {
+        ($along_u:expr, $up:expr) => {
+            march::<F, $along_u, $up>(
+                field, skip, rays, inv, walked, first, t_far, quad, lead, mask, d_u, d_v,
+            )
+        };
+    }
+    match (along_u, if along_u { way_u } else { way_v } > 0) {
+        (true, true) => build!(true, true),
+        (true, false) => build!(true, false),
+        (false, true) => build!(false, true),
+        (false, false) => build!(false, false),
+    }
+}
+
+/// [`shared_start`] along `u` (`ALONG_U`) or `v`, moving up (`UP`) or
+/// down that axis: a build for each, whose selections between the axes
+/// and the directions are constants.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
+    field: &F,
+    skip: &SkipGrid<'_>,
+    rays: &RayPacket,
+    inv: &[Lanes; 3],
+    walked: [bool; 4],
+    first: [[i32; 4]; 2],
+    t_far: Vec4,
+    quad: usize,
+    lead: usize,
+    mask: BVec4A,
+    d_u: Vec4,
+    d_v: Vec4,
+) -> Option<SharedStart> {
+    let along_u = ALONG_U;
+    let fill = |v: &Lanes| -> Vec4 {
+        let v = Vec4::from_slice(&v[quad..quad + 4]);
+        Vec4::select(mask, v, Vec4::splat(v[lead]))
     };
+    let (o, d) = (&rays.origin, &rays.direction);
+    let step = if UP { 1 } else { -1 };
+    let (a, b) = if along_u { (0, 2) } else { (2, 0) };
     // The lanes' rays, component by component, along and across the axis.
     let (o_a, inv_a) = (fill(&o[a]), fill(&inv[a]));
     let (o_b, d_b) = (fill(&o[b]), if along_u { d_v } else { d_u });
