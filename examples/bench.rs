@@ -8,7 +8,8 @@
 //! (b) primary rays only, hfray vs parry3d's `HeightField` on the same
 //!     rays (hits cross-checked);
 //! (c) scaling: the same view over the same fractal landscape sampled at
-//!     256², 1024², 4096²;
+//!     256², 1024², 4096², ray by ray in each mode and, as the renderer
+//!     traces them, in packets;
 //! (d) flat walk vs skip grid (blocks, pyramid) × numeric path;
 //! (e) column coherence: a level flight view traced column by column,
 //!     bottom-up, with and without `intersect_coherent` (answers checked
@@ -301,6 +302,9 @@ fn section_b(runs: usize) {
     }
 }
 
+/// Section (c)'s name of the mode traced in packets.
+const PACKETS_MODE: &str = "pyramid fan-out 4, packets";
+
 fn section_c(runs: usize) {
     println!("\n(c) scaling: same view, same landscape, primary rays, f32");
     println!(
@@ -339,6 +343,11 @@ fn section_c(runs: usize) {
                 "max-mipmap (fan-out 2)",
                 Some((SkipLayout::pyramid(n, n, 1), Traversal::Hierarchy)),
             ),
+            // The renderer's way: packets of `LANES` neighbours of a row.
+            (
+                PACKETS_MODE,
+                Some((SkipLayout::pyramid(n, n, 2), Traversal::Hierarchy)),
+            ),
         ]
     };
     // Every (field, mode) with its skip buffer, built before any timing.
@@ -359,18 +368,45 @@ fn section_c(runs: usize) {
             _ => field.clone().with_traversal(Traversal::Flat),
         })
         .collect();
-    let trace = |f: &HeightField<'_>| {
+    let packets: Vec<RayPacket> = rays
+        .chunks_exact(LANES)
+        .map(|c| RayPacket::from_rays(c.try_into().unwrap()))
+        .collect();
+    // Hits and work counters of `f`'s rays, one by one or in packets.
+    let count = |f: &HeightField<'_>, in_packets: bool, counters: &mut Counters| {
         let mut hits = 0u64;
-        for r in &rays {
-            hits += f.intersect(r, 0.0, f32::INFINITY).is_some() as u64;
+        if in_packets {
+            for p in &packets {
+                let found = f.intersect_packet(p, 0.0, f32::INFINITY, counters);
+                hits += found.iter().flatten().count() as u64;
+            }
+        } else {
+            for r in &rays {
+                hits += f
+                    .intersect_counted(r, 0.0, f32::INFINITY, counters)
+                    .is_some() as u64;
+            }
         }
         hits
     };
+    let in_packets: Vec<bool> = cases.iter().map(|c| c.3 == PACKETS_MODE).collect();
+    let trace = |c: usize, f: &HeightField<'_>| {
+        if in_packets[c] {
+            count(f, true, &mut Counters::default())
+        } else {
+            let mut hits = 0u64;
+            for r in &rays {
+                hits += f.intersect(r, 0.0, f32::INFINITY).is_some() as u64;
+            }
+            hits
+        }
+    };
     let reps: Vec<usize> = fields
         .iter()
-        .map(|f| {
+        .enumerate()
+        .map(|(c, f)| {
             repetitions(&mut || {
-                trace(f);
+                trace(c, f);
             })
         })
         .collect();
@@ -378,7 +414,7 @@ fn section_c(runs: usize) {
     for _ in 0..runs {
         for (c, f) in fields.iter().enumerate() {
             samples[c].push(sample_secs(reps[c], &mut || {
-                trace(f);
+                trace(c, f);
             }));
         }
     }
@@ -389,12 +425,7 @@ fn section_c(runs: usize) {
             .collect();
         let secs = median(&mut samples[c].clone());
         let mut counters = Counters::default();
-        let mut hits = 0u64;
-        for r in &rays {
-            hits += fields[c]
-                .intersect_counted(r, 0.0, f32::INFINITY, &mut counters)
-                .is_some() as u64;
-        }
+        let hits = count(&fields[c], in_packets[c], &mut counters);
         let levels = layout.map(|(l, _)| l.levels).unwrap_or(0);
         println!(
             "  {:>6} {:>30} {:>10.3} {:>8.1} {:>8.0}% {:>8} {:>11.1} {:>10.1} {:>10.1}",
