@@ -1824,6 +1824,14 @@ impl<S: Real> Walk<S> {
         ),
     ) -> Option<GridHit<S>> {
         let (field, skip, top, passes, start, stop, counters) = args;
+        // Fixed point keeps one build for every sign: its walks, with
+        // wider values to copy, got dearer (the 486SX's fixed frame: 46.05
+        // -> 47.02 M instructions).
+        if S::ALL_FINITE {
+            return self.walk_hdda::<true, false, 0, 0, F>(
+                field, skip, top, passes, start, stop, counters,
+            );
+        }
         macro_rules! build {
             ($level1:expr, $su:expr, $sv:expr) => {
                 self.walk_hdda::<true, $level1, $su, $sv, F>(
