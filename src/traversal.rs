@@ -1236,6 +1236,7 @@ impl FootprintStart {
 /// (The origin's height is finite: `start` exists.) Any other ray takes
 /// `nearest`. Checked against `nearest`, hits and work counters, by the
 /// unit test `shadow_walk_from_the_footprint_is_nearest`.
+#[inline(always)]
 pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     field: &F,
     ray: &GridRay<f32>,
