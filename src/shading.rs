@@ -1057,7 +1057,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// along `dir` in the field's grid space (`f32`), which the check made,
     /// with the start of its walk if its origin lies over the footprint,
     /// if the check succeeded.
-    #[inline]
+    ///
+    /// Inlined, with [`checked_start`], into each caller: the grid ray and
+    /// the start are then not copied through the returned values (bench512
+    /// full render 3,093 -> 3,079 instructions a pixel).
+    #[inline(always)]
     fn offset_mapped(&self, obj: &Prepared, hit: &Surface, dir: Vec3) -> (Vec3, Option<GridStart>) {
         let side = if dir.dot(hit.normal) >= 0.0 {
             1.0
@@ -1097,6 +1101,7 @@ type GridStart = (GridRay<f32>, Option<FootprintStart>);
 /// that walk ([`FootprintStart`]); passed without a start when the origin
 /// is off the footprint (the walk then starts at the box's side, away from
 /// the hit).
+#[inline(always)]
 fn checked_start(
     field: &HeightField<'_>,
     g: &GridRay<f32>,
