@@ -24,7 +24,7 @@ use crate::ray::{FieldHit, Ray, Triangle};
 use crate::real::{Numeric, Real};
 use crate::skip::{SampleGrid, SkipError, SkipGrid};
 use crate::transform::{GridTransform, Transform};
-use crate::traversal::{self, Counters, GridHit, GridRay, Traversal, WalkGrid};
+use crate::traversal::{self, Counters, FootprintStart, GridHit, GridRay, Traversal, WalkGrid};
 
 /// The largest width or depth accepted: indices stay well inside `i32`,
 /// and grid coordinates stay exact in `f32` (2^20 < 2^24).
@@ -1045,7 +1045,7 @@ impl<'a> HeightField<'a> {
         match self.numeric {
             Numeric::F32 => {
                 let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
-                self.occludes_grid(&g, t_min, t_max, counters)
+                self.occludes_grid(&g, None, t_min, t_max, counters)
             }
             #[cfg(feature = "f64-walk")]
             Numeric::F64 => self
@@ -1062,37 +1062,45 @@ impl<'a> HeightField<'a> {
         }
     }
 
-    /// [`occludes`](Self::occludes) of `ray`, whose grid ray in `f32`
-    /// (`grid_ray` of its origin and direction) the caller has made
-    /// already: the `f32` walk takes it as it is.
+    /// [`occludes`](Self::occludes) over `[0, t_max]` of `ray`, whose grid
+    /// ray in `f32` (`grid_ray` of its origin and direction) and, if its
+    /// origin lies over the footprint, the start of its walk
+    /// (`FootprintStart::of` that grid ray) the caller has made already:
+    /// the `f32` walk takes them as they are.
     #[inline]
     pub(crate) fn occludes_mapped(
         &self,
         ray: &Ray,
         grid: &GridRay<f32>,
-        t_min: f32,
+        start: Option<FootprintStart>,
         t_max: f32,
         counters: &mut Counters,
     ) -> bool {
         if self.numeric == Numeric::F32 {
-            self.occludes_grid(grid, t_min, t_max, counters)
+            self.occludes_grid(grid, start, 0.0, t_max, counters)
         } else {
-            self.occludes(ray, t_min, t_max, counters)
+            self.occludes(ray, 0.0, t_max, counters)
         }
     }
 
     /// The `f32` walk of [`occludes`](Self::occludes), the ray in grid
-    /// space: its one call of the walk (the firmware, built for size,
-    /// otherwise kept a copy of the walk for each).
+    /// space, from `start` when the caller has it (then `t_min` is 0): its
+    /// one call of the walk (the firmware, built for size, otherwise kept a
+    /// copy of the walk for each).
     #[inline(never)]
     fn occludes_grid(
         &self,
         grid: &GridRay<f32>,
+        start: Option<FootprintStart>,
         t_min: f32,
         t_max: f32,
         counters: &mut Counters,
     ) -> bool {
-        traversal::nearest(self, grid, t_min, t_max, true, counters).is_some()
+        match start {
+            Some(start) => traversal::nearest_from_footprint(self, grid, start, t_max, counters),
+            None => traversal::nearest(self, grid, t_min, t_max, true, counters),
+        }
+        .is_some()
     }
 
     /// A hit's world point: `ray.at(t)`, or, when that overflows, the
@@ -1787,6 +1795,108 @@ mod tests {
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         (*state >> 33) as u32
+    }
+
+    /// A shadow ray walked from the cell the offset check found
+    /// (`traversal::nearest_from_footprint`) gets `nearest`'s answer, to
+    /// the bit, and does the same work, in every mode, on fields with and
+    /// without water; rays on grid lines and the footprint's edges, with
+    /// zero, tiny, huge or non-finite direction components, heights outside
+    /// the walk's slab, and odd ranges included (those take `nearest`).
+    #[test]
+    fn shadow_walk_from_the_footprint_is_nearest() {
+        use crate::skip::SkipLayout;
+        let mut rng = 0x5ad0_u64;
+        let rough: [u8; 13 * 11] = core::array::from_fn(|_| lcg(&mut rng) as u8);
+        let flat = [77u8; 13 * 11];
+        let mut compared = 0;
+        for (samples, water) in [(&rough, 0.0), (&rough, 0.4), (&flat, 0.0)] {
+            let base = HeightField::new(Samples::U8(samples), 13, 11, HeightConvention::Gray8)
+                .unwrap()
+                .with_water_level(water)
+                .unwrap();
+            let layouts = [
+                SkipLayout::blocks(1),
+                SkipLayout::pyramid(13, 11, 1),
+                SkipLayout::pyramid(13, 11, 2),
+            ];
+            let mut bufs = [[0u8; 4096]; 3];
+            for (k, layout) in layouts.into_iter().enumerate() {
+                let n = SkipGrid::bytes_needed_for(&base, layout).unwrap();
+                SkipGrid::build(&base, layout, &mut bufs[k][..n]).unwrap();
+            }
+            let pick = |rng: &mut u64, n: u32| lcg(rng) % n;
+            for round in 0..20_000 {
+                let unit = |rng: &mut u64| lcg(rng) as f32 / u32::MAX as f32;
+                // Origins: anywhere over the footprint, on grid lines, on
+                // its edges; heights near the surface, or well off it.
+                let coord = |rng: &mut u64, cells: f32| match pick(rng, 4) {
+                    0 => (pick(rng, cells as u32 + 1)) as f32,
+                    1 => [0.0, -0.0, cells][pick(rng, 3) as usize],
+                    _ => unit(rng) * cells,
+                };
+                let (u, v) = (coord(&mut rng, 12.0), coord(&mut rng, 10.0));
+                // Near the surface (the height of the nearest vertex), or
+                // anywhere, or off the slab.
+                let near = base.height(u as u32, v as u32).unwrap();
+                let y = match pick(&mut rng, 8) {
+                    0 => 2.0 * unit(&mut rng) - 0.5,
+                    1 => [1.1, -0.2, 1e30, f32::NAN][pick(&mut rng, 4) as usize],
+                    _ => near + (unit(&mut rng) - 0.5) * 0.03,
+                };
+                let origin = [u, y, v];
+                let component = |rng: &mut u64| match pick(rng, 40) {
+                    0 => 0.0,
+                    1 => -0.0,
+                    2 => [1e-40, -1e-39, 1e30, -3e38, f32::INFINITY][pick(rng, 5) as usize],
+                    _ => 2.0 * unit(rng) - 1.0,
+                };
+                let direction = [
+                    component(&mut rng),
+                    component(&mut rng),
+                    component(&mut rng),
+                ];
+                let t_max = match pick(&mut rng, 8) {
+                    0 => [0.0, -1.0, f32::INFINITY, f32::NAN, 1e-3][pick(&mut rng, 5) as usize],
+                    _ => 30.0 * unit(&mut rng),
+                };
+                let g = GridRay { origin, direction };
+                let Some(start) = FootprintStart::of(&base, &g) else {
+                    continue;
+                };
+                let k = round % 3;
+                let n = SkipGrid::bytes_needed_for(&base, layouts[k]).unwrap();
+                let skipped = base.clone().with_skip(&bufs[k][..n]).unwrap();
+                let fields = [
+                    base.clone(),
+                    skipped.clone().with_traversal(Traversal::Flat),
+                    skipped.clone().with_traversal(Traversal::Blocks),
+                    skipped.with_traversal(Traversal::Hierarchy),
+                ];
+                for field in &fields {
+                    let (mut want_work, mut got_work) = (Counters::default(), Counters::default());
+                    let want = traversal::nearest(field, &g, 0.0, t_max, true, &mut want_work);
+                    let got =
+                        traversal::nearest_from_footprint(field, &g, start, t_max, &mut got_work);
+                    let bits = |h: &Option<GridHit<f32>>| {
+                        h.map(|h| {
+                            (
+                                h.t.to_bits(),
+                                h.cell_x,
+                                h.cell_z,
+                                h.local.0.to_bits(),
+                                h.local.1.to_bits(),
+                            )
+                        })
+                    };
+                    assert_eq!(bits(&got), bits(&want), "{g:?} {t_max}");
+                    assert_eq!(got.map(|h| h.triangle), want.map(|h| h.triangle));
+                    assert_eq!(got_work, want_work, "{g:?} {t_max}");
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared > 150_000, "{compared}");
     }
 
     #[test]
