@@ -1045,7 +1045,15 @@ impl<'a> HeightField<'a> {
         match self.numeric {
             Numeric::F32 => {
                 let g = self.grid_ray(ray.origin.to_array(), ray.direction.to_array());
-                self.occludes_grid(&g, None, t_min, t_max, counters)
+                // From `t = 0` over the footprint, the shadow rays' start
+                // (the same walk, `nearest_from_footprint`; the `intersect`
+                // fuzz target checks it against `intersect`).
+                let start = if t_min == 0.0 {
+                    FootprintStart::of(self, &g)
+                } else {
+                    None
+                };
+                self.occludes_grid(&g, start, t_min, t_max, counters)
             }
             #[cfg(feature = "f64-walk")]
             Numeric::F64 => self

@@ -1625,14 +1625,18 @@ impl<S: Real> Walk<S> {
             wet: water_units != 0 || water > S::ZERO,
             v_strict: true,
             start_level: if any { 0 } else { u32::MAX },
-            // Shadow rays over a pyramid of two levels use the first only,
-            // in the walk's build for level 1, whose level arithmetic folds
-            // away (the rmnp scenes, 152 × 187 samples: 108 instructions a
-            // pixel fewer in rmnp_gradient.pov's full render, 67 in
-            // level_rmnp.pov's); over three levels, all of them (bench512:
-            // 27 a pixel more with one).
+            // A walk over a pyramid of two levels uses the first only, in
+            // the walk's build for level 1, whose level arithmetic folds
+            // away; the second pays for a packet's march, not for a ray's
+            // own walk. Measured: shadow rays of the rmnp scenes (152 × 187
+            // samples) 108 instructions a pixel fewer in
+            // rmnp_gradient.pov's full render, 67 in level_rmnp.pov's;
+            // primary rays too (level_rmnp.pov 92 fewer again), frames
+            // (`run-qemu.sh --base`) Cortex-M4F 16.23 -> 15.60 M, i486
+            // 25.99 -> 25.03 M, Cortex-M0 57.11 -> 56.47 M. Over three
+            // levels (bench512) one costs 27 a pixel more.
             max_level: match field.skip() {
-                Some(skip) if any && skip.levels() <= 2 => 1,
+                Some(skip) if skip.levels() <= 2 => 1,
                 _ => u8::MAX,
             },
         }

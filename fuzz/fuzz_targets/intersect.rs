@@ -10,7 +10,8 @@
 //! vertices; arbitrary `[t_min, t_max]`.
 //!
 //! Asserted for every ray: no panic; the walk visits at most
-//! `width + depth` cells; `occludes` agrees with `intersect`; a hit has a
+//! `width + depth` cells; `occludes` agrees with `intersect` (from `t_min =
+//! 0`, the shadow rays' walk from the origin's cell); a hit has a
 //! finite `t` inside `[t_min, t_max]`, a finite point within the field's
 //! world bounds (tolerance scaled by the magnitudes involved and the
 //! transform's condition), an object point in the unit cube, a cell inside
