@@ -616,6 +616,21 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         self.trace_counted(&cam.ray, Primary::Camera(cam, hints), stats)
     }
 
+    /// [`trace_camera`](Self::trace_camera) with the height-field work
+    /// (cells, triangle tests, blocks, resumed walks) added to `counters`,
+    /// not to `stats`: a renderer adds them to its `stats` once
+    /// ([`Stats::add_work`]), not once a ray (`u64` sums: measured on the
+    /// Cortex-M4F, 44 instructions a ray).
+    pub fn trace_camera_counting(
+        &self,
+        cam: &CameraRay,
+        hints: Option<&mut [ColumnHint]>,
+        stats: &mut Stats,
+        counters: &mut Counters,
+    ) -> Vec3 {
+        self.trace_from(&cam.ray, Primary::Camera(cam, hints), stats, counters)
+    }
+
     /// [`trace_camera`](Self::trace_camera) of each lane of `cams`
     /// (neighbouring pixels of a row; `hints` as for
     /// [`depth_camera_packet`](Self::depth_camera_packet)): their height

@@ -34,8 +34,8 @@ use hfray::heightfield::HeightFieldError;
 use hfray::scene::model::{CameraDesc, Finish, Light, Object, Pigment, Projection, Scene, Shape};
 use hfray::transform::TransformError;
 use hfray::{
-    Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb565, Rgb888,
-    Samples, SkipError, SkipGrid, Stats, Tracer, Transform,
+    Camera, Counters, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb565,
+    Rgb888, Samples, SkipError, SkipGrid, Stats, Tracer, Transform,
 };
 
 /// Frame width of the 96 × 64 scenes (`base`, `reflect-*`, `plane-*`).
@@ -804,6 +804,8 @@ impl<'s> Renderer<'s> {
         mut sink: impl FnMut(&[u8]) -> Result<(), E>,
     ) -> Result<Stats, FrameError<E>> {
         let mut stats = Stats::default();
+        // The walks' work, added to `stats` once (as `hfray::render`).
+        let mut counters = Counters::default();
         let (width, height) = self.kind.size();
         let line = line
             .get_mut(..width)
@@ -812,12 +814,15 @@ impl<'s> Renderer<'s> {
         for y in 0..height {
             for (x, p) in line.iter_mut().enumerate() {
                 let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                let c = self.tracer.trace_camera(&ray, None, &mut stats);
+                let c = self
+                    .tracer
+                    .trace_camera_counting(&ray, None, &mut stats, &mut counters);
                 *p = Rgb888::from_linear(c, x as u32, y as u32);
             }
             send_row(line, rgb565, &mut sink).map_err(FrameError::Sink)?;
             stats.rows += 1;
         }
+        stats.add_work(&counters);
         Ok(stats)
     }
 }
