@@ -211,24 +211,6 @@ impl From<TransformError> for SceneError {
     }
 }
 
-/// The field's placement: the 860 m × 600 m survey (10 m spacing) scaled to
-/// 1 × 0.698 in x/z, its 101 m relief to 0.25 in y (about 2× exaggerated),
-/// centred on the origin in x/z.
-pub fn field_transform() -> Result<Transform, SceneError> {
-    let scale = Transform::scale(DVec3::new(1.0, 0.25, 600.0 / 860.0))?;
-    let shift = Transform::translate(DVec3::new(-0.5, 0.0, -0.35))?;
-    Ok(scale.then(&shift))
-}
-
-/// The `lcd` field's placement: 152 × 187 samples at about 233 m, 35.4 km ×
-/// 43.6 km scaled to 1 × 1.236 in x/z, its 1,980 m relief to 0.112 in y
-/// (2× exaggerated), centred on the origin in x/z.
-fn lcd_field_transform() -> Result<Transform, SceneError> {
-    let scale = Transform::scale(DVec3::new(1.0, 0.112, 1.236))?;
-    let shift = Transform::translate(DVec3::new(-0.5, 0.0, -0.618))?;
-    Ok(scale.then(&shift))
-}
-
 /// What a frame kind's scene is made of.
 struct Look {
     location: Vec3,
@@ -343,8 +325,8 @@ impl FrameKind {
     /// The field's placement.
     fn transform(self) -> Result<Transform, SceneError> {
         match self {
-            FrameKind::Small => field_transform(),
-            FrameKind::Lcd => lcd_field_transform(),
+            FrameKind::Small => Ok(field_transform()?),
+            FrameKind::Lcd => Ok(lcd_field_transform()?),
             FrameKind::Thesis => Ok(Transform::scale(DVec3::new(1.0, 0.3, 1.0))?),
         }
     }
@@ -456,6 +438,13 @@ pub const LCD_SKIP_BYTES: usize = pyramid_bytes(LCD_FIELD_WIDTH, LCD_FIELD_DEPTH
 /// (`HeightField::write_raw_normals`: 6 a vertex), the largest smooth
 /// field's.
 pub const LCD_NORMALS_BYTES: usize = LCD_FIELD_WIDTH as usize * LCD_FIELD_DEPTH as usize * 6;
+/// Bytes of the `lcd` field's world-space vertex normals
+/// (`HeightField::write_world_normals`: a 36-byte header, 12 a vertex),
+/// the largest smooth field's.
+pub const LCD_WORLD_NORMALS_BYTES: usize =
+    36 + LCD_FIELD_WIDTH as usize * LCD_FIELD_DEPTH as usize * 12;
+/// Bytes of the `base` field's world-space vertex normals.
+pub const WORLD_NORMALS_BYTES: usize = 36 + FIELD_WIDTH as usize * FIELD_DEPTH as usize * 12;
 /// Bytes of the `thesis` field's pyramid (34,960: `16 + 2 × (128² + 32² + 8²)`).
 pub const THESIS_SKIP_BYTES: usize = pyramid_bytes(THESIS_SIDE, THESIS_SIDE);
 
