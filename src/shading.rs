@@ -211,6 +211,9 @@ pub struct Tracer<'a, const OBJECTS: usize> {
     fields: &'a [HeightField<'a>],
     lights: &'a [Light],
     background: Vec3,
+    /// `saturate(background)`: what a primary ray that hits nothing adds
+    /// (its multiplier is one), made once.
+    background_seen: Vec3,
     ambient_light: Vec3,
     max_trace_level: u32,
     any_transparent: bool,
@@ -284,6 +287,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             fields,
             lights: &scene.lights,
             background: scene.background,
+            background_seen: saturate(scene.background),
             ambient_light: scene.settings.ambient_light,
             max_trace_level: scene.settings.max_trace_level,
             any_transparent: false,
@@ -782,6 +786,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             }
         };
         let Some((object, local)) = found else {
+            // `1 · background` is `background` (a NaN stays one, which
+            // `saturate` zeroes either way).
+            if p.kind == Kind::Primary {
+                return self.background_seen;
+            }
             return saturate(p.mult * self.background);
         };
         let obj = &self.objects[*object];
