@@ -5,9 +5,12 @@
 //! the Cortex-M4F board, the `thesis` scene's 512 × 512 field (256 KiB,
 //! made by `hfray::generate::plasma` exactly as the i486 program and the
 //! host make it at run time) and its pyramid (34 KB), and the smooth
-//! fields' vertex normals (`lcd` 170 KB, `base` 32 KB,
-//! `HeightField::write_raw_normals`; the i486 program writes them at run
-//! time, the host computes them as hits need them, to the same bits).
+//! fields' vertex normals in world space for the scenes' placements
+//! (`lcd` 341 KB, `base` 64 KB, `HeightField::write_world_normals`) and
+//! the `base` field's as POV-Ray stores them (32 KB,
+//! `HeightField::write_raw_normals`, for the scenes that turn it); the i486
+//! program writes world normals at run time, the host computes them as
+//! hits need them, to the same bits.
 use std::{env, fs, path::Path, path::PathBuf};
 
 use hfray::{HeightConvention, HeightField, Samples, SkipGrid};
