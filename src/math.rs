@@ -105,29 +105,6 @@ fn hardware_sqrtf(x: f32) -> f32 {
     libm::sqrtf(x)
 }
 
-/// `2^23`: adding it to an `f32` in `[0, 2^23)` rounds away the fraction
-/// (its ulp is 1).
-const ROUNDING_SHIFT: f32 = 8_388_608.0;
-
-/// `s as u8` for `s` in `[1, 255)` (the floor) without a float-to-int
-/// conversion, for the x87, where the conversion switches the control
-/// word's rounding mode and back (measured on the i486 frames: 23
-/// instructions per pixel more than this): `s + 2^23` rounded to `f32` (its
-/// ulp is 1) through memory (`to_bits`, so whatever the x87's precision
-/// control holds in registers) is the nearest integer's bits, less one
-/// where it rounded up.
-#[cfg_attr(
-    not(all(target_arch = "x86", not(target_feature = "sse"))),
-    allow(dead_code)
-)]
-#[inline(always)]
-pub(crate) fn floor_to_u8_by_rounding(s: f32) -> u8 {
-    let shifted = (s + ROUNDING_SHIFT).to_bits();
-    let rounded = shifted - ROUNDING_SHIFT.to_bits();
-    let up = f32::from_bits(shifted) - ROUNDING_SHIFT > s;
-    (rounded - u32::from(up)) as u8
-}
-
 /// `|v|`, as `Vec3::length` computes it.
 #[inline(always)]
 pub(crate) fn length(v: Vec3) -> f32 {
@@ -181,26 +158,6 @@ mod tests {
             assert_eq!(sqrtf(x).to_bits(), libm::sqrtf(x).to_bits(), "{x:e}");
         }
         assert!(sqrtf(-1.0).is_nan() && sqrtf(f32::NAN).is_nan());
-    }
-
-    #[test]
-    fn x87_pixel_floor_matches_the_conversion() {
-        // Every f32 in [1, 255) with a spread of mantissas, and the halves
-        // and integers where rounding turns.
-        let mut bits = 1.0_f32.to_bits();
-        while f32::from_bits(bits) < 255.0 {
-            let s = f32::from_bits(bits);
-            assert_eq!(floor_to_u8_by_rounding(s), s as u8, "{s:e}");
-            bits += 97;
-        }
-        for k in 1..255 {
-            let k = k as f32;
-            for s in [k, k + 0.5, k - 0.5, k + 0.999_99, k - 1e-5] {
-                if (1.0..255.0).contains(&s) {
-                    assert_eq!(floor_to_u8_by_rounding(s), s as u8, "{s:e}");
-                }
-            }
-        }
     }
 
     #[test]

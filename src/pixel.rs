@@ -62,17 +62,45 @@ pub fn channel_to_u8(v: f32) -> u8 {
     {
         (s as i32).clamp(0, 255) as u8
     }
-    // The x87's float-to-int conversion switches the rounding mode and back:
-    // there the clamps are comparisons and the floor comes from rounding.
+    // The x87's float-to-int conversion switches the rounding mode and back,
+    // and each float compare is four instructions (`fucom`, `fnstsw`,
+    // `sahf`, a jump): there the clamps and the floor are integer work on
+    // the bits.
     #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
     {
-        if s >= 255.0 {
-            255
-        } else if s >= 1.0 {
-            crate::math::floor_to_u8_by_rounding(s)
-        } else {
-            0
-        }
+        saturating_u8_from_bits(s)
+    }
+}
+
+/// `s as u8` (the floor, clamped to `0..=255`, NaN 0) in integer
+/// arithmetic on `s`'s bits, for the x87. Measured on the i486: a pixel's
+/// conversion 101 → 59 instructions (against float compares and a floor by
+/// rounding through `s + 2^23`), `base` frame 27.30 → 27.03 M. The bits
+/// go through memory as `f32`, so the x87's register precision does not
+/// matter.
+#[cfg_attr(
+    not(all(target_arch = "x86", not(target_feature = "sse"))),
+    allow(dead_code)
+)]
+#[inline(always)]
+fn saturating_u8_from_bits(s: f32) -> u8 {
+    const ONE: i32 = 0x3f80_0000; // 1.0
+    const TOP: i32 = 0x437f_0000; // 255.0
+    const INFINITY: i32 = 0x7f80_0000;
+    // Non-negative floats order as their bits; negative ones are negative
+    // `i32`s.
+    let bits = s.to_bits() as i32;
+    if bits < ONE {
+        0
+    } else if bits < TOP {
+        // `s` in [1, 255): exponent 0..=7, so the floor is the significand
+        // (with its implicit bit) shifted right by 23 − exponent.
+        let significand = (bits & 0x7f_ffff) | 0x80_0000;
+        (significand >> (150 - (bits >> 23))) as u8
+    } else if bits <= INFINITY {
+        255
+    } else {
+        0 // NaN
     }
 }
 
@@ -389,6 +417,37 @@ mod tests {
         assert_eq!(channel_to_u8(0.001), 0); // 0.255
         let p = Rgb888::from_linear(Vec3::new(0.2, 0.6, 1.2), 3, 4);
         assert_eq!(p, Rgb888([51, 153, 255]));
+    }
+
+    #[test]
+    fn saturating_u8_from_bits_is_the_saturating_cast() {
+        // A spread of every bit pattern, and each integer and half-way
+        // point of the range with its neighbours.
+        let mut bits = 0u32;
+        for _ in 0..(1 << 22) {
+            let s = f32::from_bits(bits);
+            assert_eq!(saturating_u8_from_bits(s), s as u8, "{s:e}");
+            bits = bits.wrapping_add(1021);
+        }
+        for k in -2..=258 {
+            for centre in [k as f32, k as f32 + 0.5] {
+                let mut s = f32::from_bits(centre.to_bits().wrapping_sub(4));
+                for _ in 0..9 {
+                    assert_eq!(saturating_u8_from_bits(s), s as u8, "{s:e}");
+                    s = f32::from_bits(s.to_bits().wrapping_add(1));
+                }
+            }
+        }
+        for s in [
+            0.0,
+            -0.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ] {
+            assert_eq!(saturating_u8_from_bits(s), s as u8, "{s:e}");
+        }
     }
 
     #[test]

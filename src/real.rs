@@ -176,6 +176,53 @@ pub trait Real:
     }
 }
 
+/// `s as i32` (`FLOOR`: `floor(s) as i32`), saturating, NaN 0, in integer
+/// arithmetic on `s`'s bits: for the x87, whose float-to-integer conversion
+/// switches the control word's rounding mode and back and saturates by
+/// float compares (37 instructions a conversion in the walk's set-up;
+/// measured on the i486: `thesis` frame 369.3 → 365.4 M, `base` 26.05 →
+/// 25.83 M). The bits go through memory as `f32`, so the x87's register
+/// precision does not matter.
+#[cfg_attr(
+    not(all(target_arch = "x86", not(target_feature = "sse"))),
+    allow(dead_code)
+)]
+#[inline(always)]
+fn f32_to_i32_from_bits<const FLOOR: bool>(s: f32) -> i32 {
+    let bits = s.to_bits();
+    let negative = bits >> 31 != 0;
+    let exponent = (bits >> 23) & 0xff;
+    let significand = (bits & 0x7f_ffff) | 0x80_0000;
+    if exponent < 127 {
+        // |s| < 1: 0, or −1 for the floor of a negative non-zero.
+        return if FLOOR && negative && bits << 1 != 0 {
+            -1
+        } else {
+            0
+        };
+    }
+    if exponent >= 127 + 31 {
+        // |s| ≥ 2^31: saturated; NaN: 0.
+        return if exponent == 0xff && significand != 0x80_0000 {
+            0
+        } else if negative {
+            i32::MIN
+        } else {
+            i32::MAX
+        };
+    }
+    // 1 ≤ |s| < 2^31: the significand with its top bit at bit 31, shifted
+    // right to the whole part (below 2^31) and left to the fraction's bits.
+    let scaled = significand << 8;
+    let whole = scaled >> (158 - exponent);
+    let fraction = scaled << (exponent - 126);
+    if negative {
+        -(whole as i32) - i32::from(FLOOR && fraction != 0)
+    } else {
+        whole as i32
+    }
+}
+
 impl Real for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
@@ -205,18 +252,32 @@ impl Real for f32 {
     fn floor_nonneg_i32(self) -> i32 {
         // Truncation is the floor for `self ≥ 0`; `as` saturates, NaN
         // gives 0, as in `floor_i32`.
-        self as i32
+        #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+        {
+            self as i32
+        }
+        #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+        {
+            f32_to_i32_from_bits::<false>(self)
+        }
     }
     #[inline]
     fn floor_i32(self) -> i32 {
         // `floorf(self) as i32` without the libm call: truncate, then step
         // down if that rounded up. Same result for every input (the cast
         // saturates, NaN gives 0).
-        let i = self as i32;
-        if (i as f32) > self {
-            i.saturating_sub(1)
-        } else {
-            i
+        #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+        {
+            let i = self as i32;
+            if (i as f32) > self {
+                i.saturating_sub(1)
+            } else {
+                i
+            }
+        }
+        #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+        {
+            f32_to_i32_from_bits::<true>(self)
         }
     }
     #[inline]
@@ -972,6 +1033,42 @@ pub(crate) fn xorshift32(mut x: u32) -> impl FnMut() -> u32 {
 #[cfg(test)]
 mod tests {
     use super::Real;
+
+    /// The x87's conversions on the bits are the casts they replace, for
+    /// every kind of input.
+    #[test]
+    fn f32_to_i32_from_bits_is_the_cast_and_the_floor() {
+        let floor = |s: f32| {
+            let i = s as i32;
+            if (i as f32) > s {
+                i.saturating_sub(1)
+            } else {
+                i
+            }
+        };
+        let check = |s: f32| {
+            assert_eq!(super::f32_to_i32_from_bits::<false>(s), s as i32, "{s:e}");
+            assert_eq!(super::f32_to_i32_from_bits::<true>(s), floor(s), "{s:e}");
+        };
+        let mut bits = 0u32;
+        for _ in 0..(1 << 22) {
+            check(f32::from_bits(bits));
+            bits = bits.wrapping_add(1021);
+        }
+        // Around every power of two and its neighbours, both signs.
+        for e in 0..=255u32 {
+            for m in [0, 1, 2, 0x40_0000, 0x7f_fffe, 0x7f_ffff] {
+                for sign in [0, 1 << 31] {
+                    check(f32::from_bits(sign | e << 23 | m));
+                }
+            }
+        }
+        for k in -300..=300 {
+            for s in [k as f32, k as f32 + 0.5, k as f32 - 1e-3] {
+                check(s);
+            }
+        }
+    }
 
     /// The float overrides of `from_raw_height` give `from_height_units`'
     /// value for every sample of every convention (8-bit indexed and gray,

@@ -61,6 +61,7 @@ pub use crate::render_error::{FixedLimit, RenderError, MAX_AA, MAX_SAMPLES_PER_S
 use crate::scene::{ParseOptions, Scene};
 use crate::shading::Tracer;
 pub use crate::stats::Stats;
+use crate::traversal::Counters;
 
 /// What to render.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -348,13 +349,16 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     }
     let step = 1.0 / n as f32;
     let norm = 1.0 / (n * n) as f32;
-    Ok(drive(settings, line, sink, |x, y, stats| {
+    // The walks' work, added to the stats once at the end.
+    let mut counters = Counters::default();
+    let mut stats = drive(settings, line, sink, |x, y, stats| {
         if n == 1 {
             // The one sample at the pixel centre: the loop below with its
             // sum of one and `norm` 1 gives the same bits.
             let h = sample_hints(&mut hints, fields.len(), settings, x, 0, 0);
             let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-            return P::from_linear(tracer.trace_camera(&cam, h, stats), x, y);
+            let colour = tracer.trace_camera_counting(&cam, h, stats, &mut counters);
+            return P::from_linear(colour, x, y);
         }
         let mut sum = Vec3::ZERO;
         for j in 0..n {
@@ -362,11 +366,14 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
             for i in 0..n {
                 let sx = x as f32 + (i as f32 + 0.5) * step;
                 let h = sample_hints(&mut hints, fields.len(), settings, x, i, j);
-                sum += tracer.trace_camera(&camera.camera_ray(sx, sy), h, stats);
+                let cam = camera.camera_ray(sx, sy);
+                sum += tracer.trace_camera_counting(&cam, h, stats, &mut counters);
             }
         }
         P::from_linear(sum * norm, x, y)
-    }))
+    });
+    stats.add_work(&counters);
+    Ok(stats)
 }
 
 /// The depth AOV: like [`render`], but each pixel is the distance along

@@ -5,9 +5,12 @@
 //! the Cortex-M4F board, the `thesis` scene's 512 × 512 field (256 KiB,
 //! made by `hfray::generate::plasma` exactly as the i486 program and the
 //! host make it at run time) and its pyramid (34 KB), and the smooth
-//! fields' vertex normals (`lcd` 170 KB, `base` 32 KB,
-//! `HeightField::write_raw_normals`; the i486 program writes them at run
-//! time, the host computes them as hits need them, to the same bits).
+//! fields' vertex normals in world space for the scenes' placements
+//! (`lcd` 341 KB, `base` 64 KB, `HeightField::write_world_normals`) and
+//! the `base` field's as POV-Ray stores them (32 KB,
+//! `HeightField::write_raw_normals`, for the scenes that turn it); the i486
+//! program writes world normals at run time, the host computes them as
+//! hits need them, to the same bits.
 use std::{env, fs, path::Path, path::PathBuf};
 
 use hfray::{HeightConvention, HeightField, Samples, SkipGrid};
@@ -63,10 +66,18 @@ fn main() {
         // The smooth fields' vertex normals (`lcd` 170 KB, `base` 32 KB;
         // the micro:bit draws the fixed-point frame, which does not read
         // them).
+        // In world space for the fields as the scenes place them (`lcd`
+        // 341 KB, `base` 64 KB), and the `base` field's also as POV-Ray
+        // stores them (32 KB): the `reflect-*` scenes turn that field.
         let size = (LCD_FIELD_WIDTH, LCD_FIELD_DEPTH);
-        write_normals(&LCD_FIELD_SAMPLES, size, &out.join("lcd_normals.bin"));
+        let placement = lcd_field_transform().expect("lcd placement");
+        let path = out.join("lcd_world_normals.bin");
+        write_world_normals(&LCD_FIELD_SAMPLES, size, placement, &path);
         let size = (FIELD_WIDTH, FIELD_DEPTH);
         write_normals(&FIELD_SAMPLES, size, &out.join("base_normals.bin"));
+        let placement = field_transform().expect("base placement");
+        let path = out.join("base_world_normals.bin");
+        write_world_normals(&FIELD_SAMPLES, size, placement, &path);
         println!("cargo:rustc-cfg=hfray_normals_in_flash");
     }
 }
@@ -89,5 +100,22 @@ fn write_normals(samples: &[u8], (width, depth): (u32, u32), path: &Path) {
         .expect("field");
     let mut normals = vec![0u8; field.raw_normals_bytes()];
     field.write_raw_normals(&mut normals).expect("normals");
+    fs::write(path, &normals).unwrap();
+}
+
+/// The smooth-shading vertex normals of a `width × depth` 8-bit field
+/// placed by `placement`, in world space
+/// (`HeightField::write_world_normals`, 12 bytes a vertex).
+fn write_world_normals(
+    samples: &[u8],
+    (width, depth): (u32, u32),
+    placement: hfray::Transform,
+    path: &Path,
+) {
+    let field = HeightField::new(Samples::U8(samples), width, depth, HeightConvention::Gray8)
+        .expect("field")
+        .with_transform(placement);
+    let mut normals = vec![0u8; field.world_normals_bytes()];
+    field.write_world_normals(&mut normals).expect("normals");
     fs::write(path, &normals).unwrap();
 }

@@ -15,6 +15,15 @@ pub const FIELD_DEPTH: u32 = 61;
 pub static FIELD_SAMPLES: [u8; (FIELD_WIDTH * FIELD_DEPTH) as usize] =
     *include_bytes!("../data/maunga_whau_87x61.u8.raw");
 
+/// The embedded field's placement: the 860 m × 600 m survey (10 m
+/// spacing) scaled to 1 × 0.698 in x/z, its 101 m relief to 0.25 in y
+/// (about 2× exaggerated), centred on the origin in x/z.
+pub fn field_transform() -> Result<hfray::Transform, hfray::transform::TransformError> {
+    let scale = hfray::Transform::scale(hfray::glam::DVec3::new(1.0, 0.25, 600.0 / 860.0))?;
+    let shift = hfray::Transform::translate(hfray::glam::DVec3::new(-0.5, 0.0, -0.35))?;
+    Ok(scale.then(&shift))
+}
+
 /// Samples per row of the `lcd` scene's field.
 pub const LCD_FIELD_WIDTH: u32 = 152;
 /// Rows of the `lcd` scene's field.
@@ -26,6 +35,15 @@ pub const LCD_FIELD_DEPTH: u32 = 187;
 /// In flash on the microcontrollers.
 pub static LCD_FIELD_SAMPLES: [u8; (LCD_FIELD_WIDTH * LCD_FIELD_DEPTH) as usize] =
     *include_bytes!("../data/rmnp_co_152x187.u8.raw");
+
+/// The `lcd` field's placement: 152 × 187 samples at about 233 m, 35.4 km ×
+/// 43.6 km scaled to 1 × 1.236 in x/z, its 1,980 m relief to 0.112 in y
+/// (2× exaggerated), centred on the origin in x/z.
+pub fn lcd_field_transform() -> Result<hfray::Transform, hfray::transform::TransformError> {
+    let scale = hfray::Transform::scale(hfray::glam::DVec3::new(1.0, 0.112, 1.236))?;
+    let shift = hfray::Transform::translate(hfray::glam::DVec3::new(-0.5, 0.0, -0.618))?;
+    Ok(scale.then(&shift))
+}
 
 /// Side of the `thesis` scene's square field (the thesis's 512 × 512).
 pub const THESIS_SIDE: u32 = 512;

@@ -255,11 +255,18 @@ fn main() -> ! {
     let field = source
         .and_then(|(samples, size, pyramid)| scene::build_field(&model, samples, size, pyramid));
     // On the Cortex-M4F the smooth fields' vertex normals come from flash
-    // (build.rs): the same normals, not computed per hit.
+    // (build.rs): the same normals, not computed per hit; in world space
+    // where the table was written for the scene's placement.
     #[cfg(hfray_normals_in_flash)]
     let field = field.and_then(|f| match kind {
-        scene::FrameKind::Small => Ok(f.with_raw_normals(&BASE_NORMALS)?),
-        scene::FrameKind::Lcd => Ok(f.with_raw_normals(&LCD_NORMALS)?),
+        scene::FrameKind::Small => match f.clone().with_world_normals(&BASE_WORLD_NORMALS) {
+            Ok(world) => Ok(world),
+            Err(hfray::heightfield::HeightFieldError::WorldNormalsPlacement) => {
+                Ok(f.with_raw_normals(&BASE_NORMALS)?)
+            }
+            Err(e) => Err(e.into()),
+        },
+        scene::FrameKind::Lcd => Ok(f.with_world_normals(&LCD_WORLD_NORMALS)?),
         scene::FrameKind::Thesis => Ok(f),
     });
     let fields = match field {
@@ -336,16 +343,27 @@ fn main() -> ! {
 static LCD_PYRAMID: [u8; scene::LCD_SKIP_BYTES] =
     *include_bytes!(concat!(env!("OUT_DIR"), "/lcd_pyramid.bin"));
 
-/// The `lcd` field's smooth-shading vertex normals, written by `build.rs`
-/// (`HeightField::write_raw_normals`: 6 bytes a vertex, 170 KB of flash),
-/// where the board has room.
+/// The `lcd` field's smooth-shading vertex normals in world space for the
+/// scene's placement, written by `build.rs`
+/// (`HeightField::write_world_normals`: 12 bytes a vertex, 341 KB of
+/// flash), where the board has room. Measured on the `lcd` frame: smooth
+/// normals 246 → 102 instructions a hit against POV-Ray's `i16` normals in
+/// flash (170 KB, carried to world space and normalised per vertex).
 #[cfg(hfray_normals_in_flash)]
-static LCD_NORMALS: [u8; scene::LCD_FIELD_WIDTH as usize * scene::LCD_FIELD_DEPTH as usize * 6] =
-    *include_bytes!(concat!(env!("OUT_DIR"), "/lcd_normals.bin"));
+static LCD_WORLD_NORMALS: [u8; scene::LCD_WORLD_NORMALS_BYTES] =
+    *include_bytes!(concat!(env!("OUT_DIR"), "/lcd_world_normals.bin"));
 
-/// The embedded (`base`) field's vertex normals, as [`LCD_NORMALS`] (32 KB
-/// of flash; measured on the `base` frame: smooth normals 487 → 257
-/// instructions a hit, the frame 18.31 → 17.68 M).
+/// The embedded (`base`) field's world-space vertex normals, as
+/// [`LCD_WORLD_NORMALS`] (64 KB of flash).
+#[cfg(hfray_normals_in_flash)]
+static BASE_WORLD_NORMALS: [u8; scene::WORLD_NORMALS_BYTES] =
+    *include_bytes!(concat!(env!("OUT_DIR"), "/base_world_normals.bin"));
+
+/// The embedded field's vertex normals as POV-Ray stores them
+/// (`HeightField::write_raw_normals`, 32 KB of flash), for the scenes that
+/// turn it (`reflect-*`), where the world-space table does not fit
+/// (measured on the `base` frame: smooth normals 487 → 257 instructions a
+/// hit against computing them).
 #[cfg(hfray_normals_in_flash)]
 static BASE_NORMALS: [u8; scene::FIELD_WIDTH as usize * scene::FIELD_DEPTH as usize * 6] =
     *include_bytes!(concat!(env!("OUT_DIR"), "/base_normals.bin"));

@@ -34,8 +34,8 @@ use hfray::heightfield::HeightFieldError;
 use hfray::scene::model::{CameraDesc, Finish, Light, Object, Pigment, Projection, Scene, Shape};
 use hfray::transform::TransformError;
 use hfray::{
-    Camera, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb565, Rgb888,
-    Samples, SkipError, SkipGrid, Stats, Tracer, Transform,
+    Camera, Counters, HeightConvention, HeightField, Pixel, RenderError, RenderSettings, Rgb565,
+    Rgb888, Samples, SkipError, SkipGrid, Stats, Tracer, Transform,
 };
 
 /// Frame width of the 96 × 64 scenes (`base`, `reflect-*`, `plane-*`).
@@ -211,24 +211,6 @@ impl From<TransformError> for SceneError {
     }
 }
 
-/// The field's placement: the 860 m × 600 m survey (10 m spacing) scaled to
-/// 1 × 0.698 in x/z, its 101 m relief to 0.25 in y (about 2× exaggerated),
-/// centred on the origin in x/z.
-pub fn field_transform() -> Result<Transform, SceneError> {
-    let scale = Transform::scale(DVec3::new(1.0, 0.25, 600.0 / 860.0))?;
-    let shift = Transform::translate(DVec3::new(-0.5, 0.0, -0.35))?;
-    Ok(scale.then(&shift))
-}
-
-/// The `lcd` field's placement: 152 × 187 samples at about 233 m, 35.4 km ×
-/// 43.6 km scaled to 1 × 1.236 in x/z, its 1,980 m relief to 0.112 in y
-/// (2× exaggerated), centred on the origin in x/z.
-fn lcd_field_transform() -> Result<Transform, SceneError> {
-    let scale = Transform::scale(DVec3::new(1.0, 0.112, 1.236))?;
-    let shift = Transform::translate(DVec3::new(-0.5, 0.0, -0.618))?;
-    Ok(scale.then(&shift))
-}
-
 /// What a frame kind's scene is made of.
 struct Look {
     location: Vec3,
@@ -343,8 +325,8 @@ impl FrameKind {
     /// The field's placement.
     fn transform(self) -> Result<Transform, SceneError> {
         match self {
-            FrameKind::Small => field_transform(),
-            FrameKind::Lcd => lcd_field_transform(),
+            FrameKind::Small => Ok(field_transform()?),
+            FrameKind::Lcd => Ok(lcd_field_transform()?),
             FrameKind::Thesis => Ok(Transform::scale(DVec3::new(1.0, 0.3, 1.0))?),
         }
     }
@@ -456,6 +438,13 @@ pub const LCD_SKIP_BYTES: usize = pyramid_bytes(LCD_FIELD_WIDTH, LCD_FIELD_DEPTH
 /// (`HeightField::write_raw_normals`: 6 a vertex), the largest smooth
 /// field's.
 pub const LCD_NORMALS_BYTES: usize = LCD_FIELD_WIDTH as usize * LCD_FIELD_DEPTH as usize * 6;
+/// Bytes of the `lcd` field's world-space vertex normals
+/// (`HeightField::write_world_normals`: a 36-byte header, 12 a vertex),
+/// the largest smooth field's.
+pub const LCD_WORLD_NORMALS_BYTES: usize =
+    36 + LCD_FIELD_WIDTH as usize * LCD_FIELD_DEPTH as usize * 12;
+/// Bytes of the `base` field's world-space vertex normals.
+pub const WORLD_NORMALS_BYTES: usize = 36 + FIELD_WIDTH as usize * FIELD_DEPTH as usize * 12;
 /// Bytes of the `thesis` field's pyramid (34,960: `16 + 2 × (128² + 32² + 8²)`).
 pub const THESIS_SKIP_BYTES: usize = pyramid_bytes(THESIS_SIDE, THESIS_SIDE);
 
@@ -586,19 +575,25 @@ pub enum FrameError<E> {
     Sink(E),
 }
 
-/// What an RGB565 panel shows for each 8-bit channel value, per channel
-/// (`[v; 3]` through `Rgb565::from_rgb888`, then `Rgb565::to_rgb888`: the
-/// channels are converted independently), tabulated at compile time: the
-/// conversion divides by constants, which costs the divider-less Cortex-M0
-/// library calls per channel.
-static PANEL_LEVELS: [[u8; 3]; 256] = panel_levels();
+/// What an RGB565 panel shows for each 8-bit channel value: `[0]` for the
+/// 5-bit channels (red and blue: the same levels), `[1]` for the 6-bit
+/// green (`[v; 3]` through `Rgb565::from_rgb888`, then
+/// `Rgb565::to_rgb888`: the channels are converted independently),
+/// tabulated at compile time: the conversion divides by constants, which
+/// costs the divider-less Cortex-M0 library calls per channel. Two tables
+/// of 256, not 256 triples: a lookup is one indexed load (measured on the
+/// Cortex-M4F `lcd` frame: 20 → 14 instructions a pixel sent).
+static PANEL_LEVELS: [[u8; 256]; 2] = panel_levels();
 
-const fn panel_levels() -> [[u8; 3]; 256] {
-    let mut table = [[0u8; 3]; 256];
+const fn panel_levels() -> [[u8; 256]; 2] {
+    let mut table = [[0u8; 256]; 2];
     let mut v = 0;
     // Bound: 256 entries.
     while v < 256 {
-        table[v] = Rgb565::from_rgb888(Rgb888([v as u8; 3])).to_rgb888().0;
+        let [r, g, b] = Rgb565::from_rgb888(Rgb888([v as u8; 3])).to_rgb888().0;
+        assert!(r == b, "red and blue have the same levels");
+        table[0][v] = r;
+        table[1][v] = g;
         v += 1;
     }
     table
@@ -611,11 +606,8 @@ const fn panel_levels() -> [[u8; 3]; 256] {
 fn shown(p: Rgb888, rgb565: bool) -> [u8; 3] {
     let [r, g, b] = p.0;
     if rgb565 {
-        [
-            PANEL_LEVELS[r as usize][0],
-            PANEL_LEVELS[g as usize][1],
-            PANEL_LEVELS[b as usize][2],
-        ]
+        let [five, six] = &PANEL_LEVELS;
+        [five[r as usize], six[g as usize], five[b as usize]]
     } else {
         [r, g, b]
     }
@@ -804,6 +796,8 @@ impl<'s> Renderer<'s> {
         mut sink: impl FnMut(&[u8]) -> Result<(), E>,
     ) -> Result<Stats, FrameError<E>> {
         let mut stats = Stats::default();
+        // The walks' work, added to `stats` once (as `hfray::render`).
+        let mut counters = Counters::default();
         let (width, height) = self.kind.size();
         let line = line
             .get_mut(..width)
@@ -812,12 +806,15 @@ impl<'s> Renderer<'s> {
         for y in 0..height {
             for (x, p) in line.iter_mut().enumerate() {
                 let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                let c = self.tracer.trace_camera(&ray, None, &mut stats);
+                let c = self
+                    .tracer
+                    .trace_camera_counting(&ray, None, &mut stats, &mut counters);
                 *p = Rgb888::from_linear(c, x as u32, y as u32);
             }
             send_row(line, rgb565, &mut sink).map_err(FrameError::Sink)?;
             stats.rows += 1;
         }
+        stats.add_work(&counters);
         Ok(stats)
     }
 }

@@ -69,11 +69,11 @@ static mut THESIS_FIELD: [u8; scene::THESIS_SAMPLES] = [0; scene::THESIS_SAMPLES
 /// The skip pyramid of whichever field the scene draws (the largest, the
 /// thesis field's, is 34 KB).
 static mut PYRAMID: [u8; scene::THESIS_SKIP_BYTES] = [0; scene::THESIS_SKIP_BYTES];
-/// The smooth-shading vertex normals of the scene's field, written at run
-/// time before the frame (the largest smooth field, `lcd`'s, takes 170 KB;
-/// the `thesis` field is flat).
+/// The smooth-shading vertex normals of the scene's field in world space,
+/// written at run time before the frame (the largest smooth field, `lcd`'s,
+/// takes 341 KB; the `thesis` field is flat).
 #[cfg(not(feature = "fixed-frame"))]
-static mut NORMALS: [u8; scene::LCD_NORMALS_BYTES] = [0; scene::LCD_NORMALS_BYTES];
+static mut NORMALS: [u8; scene::LCD_WORLD_NORMALS_BYTES] = [0; scene::LCD_WORLD_NORMALS_BYTES];
 /// The row buffer, as wide as the widest frame (`thesis`, 320 pixels): in
 /// `.bss`, not on the stack under the render.
 static mut LINE: [hfray::Rgb888; scene::THESIS_WIDTH] =
@@ -416,24 +416,25 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
         Ok(f) => f,
         Err(_) => fail("field"),
     };
-    // The smooth fields' vertex normals, written once here (as POV-Ray does
-    // when it reads a smooth field, and as the Cortex-M4F keeps them in
-    // flash) instead of per hit in the frame: the same normals. Their
-    // arithmetic is `f32`, so it runs under the render's 24-bit precision.
+    // The smooth fields' vertex normals, written once here in world space
+    // for the field as placed (POV-Ray computes its own when it reads a
+    // smooth field; the Cortex-M4F keeps them in flash) instead of per hit
+    // in the frame: the same normals. Their arithmetic is `f32`, so it runs
+    // under the render's 24-bit precision.
     #[cfg(not(feature = "fixed-frame"))]
     let field = if matches!(kind, scene::FrameKind::Thesis) {
         field
     } else {
         // SAFETY: taken once, here; nothing else names this static.
         let normals = unsafe { &mut *addr_of_mut!(NORMALS) };
-        let Some(table) = normals.get_mut(..field.raw_normals_bytes()) else {
+        let Some(table) = normals.get_mut(..field.world_normals_bytes()) else {
             fail("normals")
         };
         set_x87_precision(0b00);
-        let written = field.write_raw_normals(table);
+        let written = field.write_world_normals(table);
         core::hint::black_box(&table);
         set_x87_precision(0b10);
-        match written.and_then(|()| field.with_raw_normals(table)) {
+        match written.and_then(|()| field.with_world_normals(table)) {
             Ok(f) => f,
             Err(_) => fail("normals"),
         }
