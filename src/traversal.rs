@@ -1955,6 +1955,16 @@ impl<S: Real> Walk<S> {
                 field, skip, top, passes, start, stop, counters,
             );
         }
+        // Bare-metal chips keep their flash for data: there the walk over
+        // more than one level has one build for every sign (the builds
+        // for each sign of both walks took 46 KB of the Cortex-M4F's
+        // flash, which the `full` firmware no longer had; the firmware's
+        // `base` and `lcd` fields walk level 1 only).
+        if top != 1 && cfg!(target_os = "none") {
+            return self.walk_hdda::<true, false, 0, 0, F>(
+                field, skip, top, passes, start, stop, counters,
+            );
+        }
         macro_rules! build {
             ($level1:expr, $su:expr, $sv:expr) => {
                 self.walk_hdda::<true, $level1, $su, $sv, F>(
