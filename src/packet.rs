@@ -525,11 +525,11 @@ fn shared_start<F: WalkGrid>(
         (0, _) => false,
         _ => Real::abs(d_u[lead]) >= Real::abs(d_v[lead]),
     };
-    let (d_u, d_v) = (d_u, d_v);
+    let t_far = Vec4::select(mask, t_far, Vec4::splat(t_far[lead]));
     macro_rules! build {
         ($along_u:expr, $up:expr) => {
             march::<F, $along_u, $up>(
-                field, skip, rays, inv, walked, first, t_far, quad, lead, mask, d_u, d_v,
+                field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
             )
         };
     }
@@ -543,7 +543,9 @@ fn shared_start<F: WalkGrid>(
 
 /// [`shared_start`] along `u` (`ALONG_U`) or `v`, moving up (`UP`) or
 /// down that axis: a build for each, whose selections between the axes
-/// and the directions are constants.
+/// and the directions are constants. `fill` takes the quad's lanes of a
+/// component, the lead lane's value in the lanes not walked; `t_far` is
+/// filled so.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
@@ -554,17 +556,12 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
     walked: [bool; 4],
     first: [[i32; 4]; 2],
     t_far: Vec4,
-    quad: usize,
     lead: usize,
-    mask: BVec4A,
+    fill: &impl Fn(&Lanes) -> Vec4,
     d_u: Vec4,
     d_v: Vec4,
 ) -> Option<SharedStart> {
     let along_u = ALONG_U;
-    let fill = |v: &Lanes| -> Vec4 {
-        let v = Vec4::from_slice(&v[quad..quad + 4]);
-        Vec4::select(mask, v, Vec4::splat(v[lead]))
-    };
     let (o, d) = (&rays.origin, &rays.direction);
     let step = if UP { 1 } else { -1 };
     let (a, b) = if along_u { (0, 2) } else { (2, 0) };
@@ -572,7 +569,6 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
     let (o_a, inv_a) = (fill(&o[a]), fill(&inv[a]));
     let (o_b, d_b) = (fill(&o[b]), if along_u { d_v } else { d_u });
     let (o_y, d_y) = (fill(&o[1]), fill(&d[1]));
-    let t_far = Vec4::select(mask, t_far, Vec4::splat(t_far[lead]));
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;
     let (cells_a, cells_b) = if along_u {
