@@ -297,15 +297,28 @@ impl Real for f32 {
     /// `|hi| ≤ 2^20` and `|origin| < 2^20`, every `|k − o| < 2^21`; with
     /// `2^-100 ≤ |inv| < 2^79` on top, `X·|inv| < 2^100`. (Origins 2^20 or
     /// more cells away answer `false`: they walk without the hierarchy.)
+    ///
+    /// The float bounds are compared on the magnitudes' bits, whose order
+    /// is the values' order for non-negative floats (infinity above every
+    /// finite value, NaN above infinity, so NaN fails as a float compare
+    /// does): integer compares, not the float compares and flag moves of
+    /// FPUs without flag-setting compares (Cortex-M4F: `vcmp` + `vmrs`
+    /// each; the x87: `fcom` + `fnstsw`).
     #[inline]
     fn strict_boundaries(origin: Self, inv: Self, lo: i32, hi: i32) -> bool {
         const SIDE: u32 = 1 << 20;
-        let a = inv.abs();
+        const MAGNITUDE: u32 = 0x7fff_ffff;
+        let side_bits = (SIDE as f32).to_bits();
+        let (low, high) = (
+            (1.0 / (1u128 << 100) as f32).to_bits(),
+            ((1u128 << 79) as f32).to_bits(),
+        );
+        let a = inv.to_bits() & MAGNITUDE;
         lo.unsigned_abs() <= SIDE
             && hi.unsigned_abs() <= SIDE
-            && origin.abs() < SIDE as f32
-            && a >= 1.0 / (1u128 << 100) as f32
-            && a < (1u128 << 79) as f32
+            && origin.to_bits() & MAGNITUDE < side_bits
+            // `low ≤ a < high`, one compare.
+            && a.wrapping_sub(low) < high - low
     }
     #[inline]
     fn from_water_level(level: f32) -> Self {
@@ -1089,6 +1102,76 @@ mod tests {
                     "f64 {raw} {mult}"
                 );
             }
+        }
+    }
+
+    /// `f32`'s `strict_boundaries` on the bits gives the float compares'
+    /// answer: every special value (zeros, subnormals, the bounds and their
+    /// neighbours, infinities, NaNs of both signs) and 200,000 random bit
+    /// patterns as origin and reciprocal.
+    #[test]
+    fn f32_strict_boundaries_on_the_bits_equals_the_float_compares() {
+        let float = |o: f32, inv: f32, lo: i32, hi: i32| {
+            const SIDE: u32 = 1 << 20;
+            let a = inv.abs();
+            lo.unsigned_abs() <= SIDE
+                && hi.unsigned_abs() <= SIDE
+                && o.abs() < SIDE as f32
+                && a >= 1.0 / (1u128 << 100) as f32
+                && a < (1u128 << 79) as f32
+        };
+        let bounds = [
+            (1u32 << 20) as f32,
+            1.0 / (1u128 << 100) as f32,
+            (1u128 << 79) as f32,
+        ];
+        let mut specials = heapless::Vec::<f32, 32>::new();
+        for x in [
+            0.0f32,
+            f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            1.0,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NAN,
+            f32::from_bits(0x7fff_ffff),
+        ] {
+            specials.push(x).unwrap();
+        }
+        for b in bounds {
+            for x in [
+                b,
+                f32::from_bits(b.to_bits() - 1),
+                f32::from_bits(b.to_bits() + 1),
+            ] {
+                specials.push(x).unwrap();
+            }
+        }
+        let mut signed = heapless::Vec::<f32, 64>::new();
+        for &x in &specials {
+            signed.push(x).unwrap();
+            signed.push(-x).unwrap();
+        }
+        let ranges = [(0, 511), (0, 1 << 20), (0, (1 << 20) + 1), (-(1 << 20), 3)];
+        for &o in &signed {
+            for &inv in &signed {
+                for &(lo, hi) in &ranges {
+                    assert_eq!(
+                        f32::strict_boundaries(o, inv, lo, hi),
+                        float(o, inv, lo, hi),
+                        "{o:e} {inv:e} {lo} {hi}"
+                    );
+                }
+            }
+        }
+        let mut next = crate::real::xorshift32(0x9e37_79b9);
+        for _ in 0..200_000 {
+            let (o, inv) = (f32::from_bits(next()), f32::from_bits(next()));
+            assert_eq!(
+                f32::strict_boundaries(o, inv, 0, 511),
+                float(o, inv, 0, 511),
+                "{o:e} {inv:e}"
+            );
         }
     }
 }
