@@ -1625,20 +1625,7 @@ impl<S: Real> Walk<S> {
             wet: water_units != 0 || water > S::ZERO,
             v_strict: true,
             start_level: if any { 0 } else { u32::MAX },
-            // A walk over a pyramid of two levels uses the first only, in
-            // the walk's build for level 1, whose level arithmetic folds
-            // away; the second pays for a packet's march, not for a ray's
-            // own walk. Measured: shadow rays of the rmnp scenes (152 × 187
-            // samples) 108 instructions a pixel fewer in
-            // rmnp_gradient.pov's full render, 67 in level_rmnp.pov's;
-            // primary rays too (level_rmnp.pov 92 fewer again), frames
-            // (`run-qemu.sh --base`) Cortex-M4F 16.23 -> 15.60 M, i486
-            // 25.99 -> 25.03 M, Cortex-M0 57.11 -> 56.47 M. Over three
-            // levels (bench512) one costs 27 a pixel more.
-            max_level: match field.skip() {
-                Some(skip) if skip.levels() <= 2 => 1,
-                _ => u8::MAX,
-            },
+            max_level: u8::MAX,
         }
     }
 
@@ -1892,7 +1879,20 @@ impl<S: Real> Walk<S> {
         let skip = match (field.traversal(), field.skip()) {
             (Traversal::Flat, _) | (_, None) => None,
             (Traversal::Blocks, Some(s)) => Some((s, 1)),
-            (Traversal::Hierarchy, Some(s)) => Some((s, s.levels().min(self.max_level))),
+            // A walk over a pyramid of two levels uses the first only, in
+            // the walk's build for level 1, whose level arithmetic folds
+            // away; the second pays for a packet's march, not for a ray's
+            // own walk. Measured: shadow rays of the rmnp scenes (152 × 187
+            // samples) 108 instructions a pixel fewer in
+            // rmnp_gradient.pov's full render, 67 in level_rmnp.pov's;
+            // primary rays too (level_rmnp.pov 92 fewer again), frames
+            // (`run-qemu.sh --base`) Cortex-M4F 16.23 -> 15.60 M, i486
+            // 25.99 -> 25.03 M, Cortex-M0 57.11 -> 56.47 M. Over three
+            // levels (bench512) one costs 27 a pixel more.
+            (Traversal::Hierarchy, Some(s)) => {
+                let levels = if s.levels() <= 2 { 1 } else { s.levels() };
+                Some((s, levels.min(self.max_level)))
+            }
         };
         let (o, au, av) = (self.o, self.au, self.av);
         let (cells_u, cells_v) = (self.cells_u, self.cells_v);
@@ -1904,11 +1904,9 @@ impl<S: Real> Walk<S> {
             let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
             let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
             if let (true, Some(passes)) = (u_strict && v_strict, hdda_passes(self, top)) {
-                let args = (field, skip, top, passes, start, stop, counters);
                 return if TWO_BUILDS && au.step != 0 && av.step != 0 {
-                    self.walk_hdda_moving(au.step > 0, av.step > 0, args)
+                    self.walk_hdda_moving(field, skip, top, passes, start, stop, counters)
                 } else {
-                    let (field, skip, top, passes, start, stop, counters) = args;
                     self.walk_hdda::<false, false, 0, 0, F>(
                         field, skip, top, passes, start, stop, counters,
                     )
@@ -1930,41 +1928,27 @@ impl<S: Real> Walk<S> {
 impl<S: Real> Walk<S> {
     /// The hierarchical walk of a ray moving along both axes, in the build
     /// for its steps' signs (and for level 1 only, `top == 1`).
-    #[allow(clippy::type_complexity)]
+    ///
+    /// Fixed point keeps one build for every sign: its walks, with wider
+    /// values to copy, got dearer (the 486SX's fixed frame: 46.05 -> 47.02 M
+    /// instructions). So do bare-metal chips for walks over more than one
+    /// level, to keep their flash for data (the builds for each sign of
+    /// both walks took 46 KB of the Cortex-M4F's flash, which the `full`
+    /// firmware no longer had; the firmware's `base` and `lcd` fields walk
+    /// level 1 only).
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn walk_hdda_moving<F: WalkGrid>(
         &self,
-        up_u: bool,
-        up_v: bool,
-        args: (
-            &F,
-            &SkipGrid<'_>,
-            u8,
-            u32,
-            Resume<S>,
-            &mut Option<Resume<S>>,
-            &mut Counters,
-        ),
+        field: &F,
+        skip: &SkipGrid<'_>,
+        top: u8,
+        passes: u32,
+        start: Resume<S>,
+        stop: &mut Option<Resume<S>>,
+        counters: &mut Counters,
     ) -> Option<GridHit<S>> {
-        let (field, skip, top, passes, start, stop, counters) = args;
-        // Fixed point keeps one build for every sign: its walks, with
-        // wider values to copy, got dearer (the 486SX's fixed frame: 46.05
-        // -> 47.02 M instructions).
-        if S::ALL_FINITE {
-            return self.walk_hdda::<true, false, 0, 0, F>(
-                field, skip, top, passes, start, stop, counters,
-            );
-        }
-        // Bare-metal chips keep their flash for data: there the walk over
-        // more than one level has one build for every sign (the builds
-        // for each sign of both walks took 46 KB of the Cortex-M4F's
-        // flash, which the `full` firmware no longer had; the firmware's
-        // `base` and `lcd` fields walk level 1 only).
-        if top != 1 && cfg!(target_os = "none") {
-            return self.walk_hdda::<true, false, 0, 0, F>(
-                field, skip, top, passes, start, stop, counters,
-            );
-        }
+        let by_sign = !S::ALL_FINITE && (top == 1 || !cfg!(target_os = "none"));
         macro_rules! build {
             ($level1:expr, $su:expr, $sv:expr) => {
                 self.walk_hdda::<true, $level1, $su, $sv, F>(
@@ -1972,15 +1956,16 @@ impl<S: Real> Walk<S> {
                 )
             };
         }
-        match (top == 1, up_u, up_v) {
-            (true, true, true) => build!(true, 1, 1),
-            (true, true, false) => build!(true, 1, -1),
-            (true, false, true) => build!(true, -1, 1),
-            (true, false, false) => build!(true, -1, -1),
-            (false, true, true) => build!(false, 1, 1),
-            (false, true, false) => build!(false, 1, -1),
-            (false, false, true) => build!(false, -1, 1),
-            (false, false, false) => build!(false, -1, -1),
+        match (by_sign, top == 1, self.au.step > 0, self.av.step > 0) {
+            (false, ..) => build!(false, 0, 0),
+            (true, true, true, true) => build!(true, 1, 1),
+            (true, true, true, false) => build!(true, 1, -1),
+            (true, true, false, true) => build!(true, -1, 1),
+            (true, true, false, false) => build!(true, -1, -1),
+            (true, false, true, true) => build!(false, 1, 1),
+            (true, false, true, false) => build!(false, 1, -1),
+            (true, false, false, true) => build!(false, -1, 1),
+            (true, false, false, false) => build!(false, -1, -1),
         }
     }
 }
