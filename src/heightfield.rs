@@ -390,20 +390,33 @@ impl<'a> HeightField<'a> {
                 actual: out.len(),
             });
         }
-        let mut chunks = out.chunks_exact_mut(6);
-        // Image row 0 (grid row depth − 1) first, as the samples.
+        self.write_vertex_entries(out, 6, |x, z, entry| {
+            let q = self.raw_vertex_normal_at(x, z);
+            for (bytes, c) in entry.chunks_exact_mut(2).zip(q) {
+                // |c| <= 32767.
+                bytes.copy_from_slice(&(c as i16).to_le_bytes());
+            }
+        });
+        Ok(())
+    }
+
+    /// Fills `table` with one `bytes`-byte entry a vertex, in the samples'
+    /// order (image row 0, grid row `depth − 1`, first), each written by
+    /// `entry(x, z, slot)`: the layout of the vertex-normal tables.
+    fn write_vertex_entries(
+        &self,
+        table: &mut [u8],
+        bytes: usize,
+        mut entry: impl FnMut(u32, u32, &mut [u8]),
+    ) {
+        let mut slots = table.chunks_exact_mut(bytes);
         for z in (0..self.depth).rev() {
             for x in 0..self.width {
-                let q = self.raw_vertex_normal_at(x, z);
-                if let Some(chunk) = chunks.next() {
-                    for (bytes, c) in chunk.chunks_exact_mut(2).zip(q) {
-                        // |c| <= 32767.
-                        bytes.copy_from_slice(&(c as i16).to_le_bytes());
-                    }
+                if let Some(slot) = slots.next() {
+                    entry(x, z, slot);
                 }
             }
         }
-        Ok(())
     }
 
     /// The same field taking its smooth-shading vertex normals from
@@ -461,18 +474,12 @@ impl<'a> HeightField<'a> {
         }
         let (header, table) = out.split_at_mut(WORLD_NORMALS_HEADER);
         header.copy_from_slice(&self.world_normals_header());
-        let mut chunks = table.chunks_exact_mut(12);
-        // Image row 0 (grid row depth − 1) first, as the samples.
-        for z in (0..self.depth).rev() {
-            for x in 0..self.width {
-                let n = self.vertex_normal_at(x, z);
-                if let Some(chunk) = chunks.next() {
-                    for (bytes, c) in chunk.chunks_exact_mut(4).zip(n.to_array()) {
-                        bytes.copy_from_slice(&c.to_le_bytes());
-                    }
-                }
+        self.write_vertex_entries(table, 12, |x, z, entry| {
+            let n = self.vertex_normal_at(x, z);
+            for (bytes, c) in entry.chunks_exact_mut(4).zip(n.to_array()) {
+                bytes.copy_from_slice(&c.to_le_bytes());
             }
-        }
+        });
         Ok(())
     }
 
