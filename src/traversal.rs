@@ -278,6 +278,8 @@ pub(crate) struct Walk<S> {
     water_units: u32,
     /// Height units per raw sample step.
     mult: u32,
+    /// `d_y ≥ 0` (see [`Walk::y_range`]).
+    rising: bool,
     /// The water level can cull: `false` when both water tests of the culls
     /// (`units < water_units`, `y < water`) are implied by the height tests
     /// (`water_units = 0` and `water ≤ 0`, the height of 0 units).
@@ -391,6 +393,27 @@ impl<S: Real> Walk<S> {
         }
     }
 
+    /// `(lower, higher)` of `y_a` and `y_b`, the ray's `y` at parameters
+    /// `t_a ≤ t_b` (each `o_y + t·d_y`), ordered by the sign of `d_y`
+    /// (`rising`) rather than compared: the expression is monotone in `t`
+    /// (each rounding is; fixed point's product rounds towards −∞ and its
+    /// sums saturate), so `y_a ≤ y_b` when `d_y ≥ 0` and `y_a ≥ y_b` when
+    /// `d_y ≤ 0`. The walk's builds for a sign of `d_y` fold the choice
+    /// away. Measured: bench512 11 instructions a primary ray fewer and 53
+    /// a pixel of the full render; the i486's base frame 2.9% fewer. Not on
+    /// bare metal, whose flash has no room for those builds, and where the
+    /// Cortex-M4F's base frame took 1.3% more with the choice made per use.
+    #[inline(always)]
+    fn y_range(&self, y_a: S, y_b: S) -> (S, S) {
+        if cfg!(target_os = "none") {
+            (y_a.min(y_b), y_a.max(y_b))
+        } else if self.rising {
+            (y_a, y_b)
+        } else {
+            (y_b, y_a)
+        }
+    }
+
     /// Visits the cursor's cell: the cull, the cell test, and the step to
     /// the next cell (moving the cursor). On a hit the cursor is left at
     /// the hit cell and recorded in `stop` (where a coherent walk may
@@ -432,7 +455,7 @@ impl<S: Real> Walk<S> {
         let y_a = c.y_a;
         let y_b = o[1] + t_b * d[1];
         // `y` is never NaN (finite ray, finite `t`): the ordered pair.
-        let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
+        let (y_low, y_high) = self.y_range(y_a, y_b);
         let culled = y_low > S::from_raw_height(r_max, mult)
             || y_high < S::from_raw_height(r_min, mult)
             || (self.wet && (r_max * mult < self.water_units || y_high < self.water));
@@ -585,7 +608,7 @@ impl<S: Real> Walk<S> {
                     let t_block = tu_edge.min(tv_edge);
                     let t_end = t_block.min(self.t_far).max(t_a);
                     let y_b = o[1] + t_end * d[1];
-                    let (y_low, y_high) = if y_a <= y_b { (y_a, y_b) } else { (y_b, y_a) };
+                    let (y_low, y_high) = self.y_range(y_a, y_b);
                     let (lo, hi) = skip.raw_bounds(level, bi, bj);
                     let culled = hi * mult < self.water_units
                         || y_low > S::from_raw_height(hi, mult)
@@ -657,6 +680,7 @@ impl<S: Real> Walk<S> {
         const LEVEL1: bool,
         const SU: i32,
         const SV: i32,
+        const RISING: bool,
         F: WalkGrid,
     >(
         &self,
@@ -690,6 +714,12 @@ impl<S: Real> Walk<S> {
         let walk = Walk {
             au: signed(self.au, SU),
             av: signed(self.av, SV),
+            // (Bare metal has no builds for a sign of `d_y`: the walk's own.)
+            rising: if cfg!(target_os = "none") {
+                self.rising
+            } else {
+                RISING
+            },
             ..*self
         };
         walk.walk_hdda_in::<MOVING, LEVEL1, F>(field, skip, top, max_passes, start, stop, counters)
@@ -810,7 +840,7 @@ impl<S: Real> Walk<S> {
                 let y_a = c.y_a;
                 // `y` is never NaN here (finite ray, finite `t`), so these are
                 // the ordered pair of the cell cull.
-                let (y_low, y_high) = (y_a.min(y_b), y_a.max(y_b));
+                let (y_low, y_high) = self.y_range(y_a, y_b);
                 let (bi, bj) = (c.i >> shift, c.j >> shift);
                 let (lo, hi) = skip.walk_bounds(block_level, bi as u32, bj as u32);
                 let culled = y_low > S::from_raw_height(hi, mult)
@@ -1622,6 +1652,8 @@ impl<S: Real> Walk<S> {
             water,
             water_units,
             mult: field.units_per_sample(),
+            // (Unused on bare metal: see `y_range`.)
+            rising: !cfg!(target_os = "none") && d[1] >= S::ZERO,
             wet: water_units != 0 || water > S::ZERO,
             v_strict: true,
             start_level: if any { 0 } else { u32::MAX },
@@ -1907,7 +1939,7 @@ impl<S: Real> Walk<S> {
                 return if TWO_BUILDS && au.step != 0 && av.step != 0 {
                     self.walk_hdda_moving(field, skip, top, passes, start, stop, counters)
                 } else {
-                    self.walk_hdda::<false, false, 0, 0, F>(
+                    self.walk_hdda::<false, false, 0, 0, false, F>(
                         field, skip, top, passes, start, stop, counters,
                     )
                 };
@@ -1951,13 +1983,21 @@ impl<S: Real> Walk<S> {
         let by_sign = !S::ALL_FINITE && (top == 1 || !cfg!(target_os = "none"));
         macro_rules! build {
             ($level1:expr, $su:expr, $sv:expr) => {
-                self.walk_hdda::<true, $level1, $su, $sv, F>(
-                    field, skip, top, passes, start, stop, counters,
-                )
+                if self.rising && !cfg!(target_os = "none") {
+                    self.walk_hdda::<true, $level1, $su, $sv, true, F>(
+                        field, skip, top, passes, start, stop, counters,
+                    )
+                } else {
+                    self.walk_hdda::<true, $level1, $su, $sv, false, F>(
+                        field, skip, top, passes, start, stop, counters,
+                    )
+                }
             };
         }
         match (by_sign, top == 1, self.au.step > 0, self.av.step > 0) {
-            (false, ..) => build!(false, 0, 0),
+            (false, ..) => self.walk_hdda::<true, false, 0, 0, false, F>(
+                field, skip, top, passes, start, stop, counters,
+            ),
             (true, true, true, true) => build!(true, 1, 1),
             (true, true, true, false) => build!(true, 1, -1),
             (true, true, false, true) => build!(true, -1, 1),
