@@ -640,7 +640,7 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
                 b_hi - b_lo < MAX_ACROSS && {
                     let column = (col_lo >> shift) as u32;
                     let mut highest = 0;
-                    for r in b_lo..=b_hi {
+                    for r in b_lo..b_hi + 1 {
                         let (bi, bj) = if along_u { (column, r) } else { (r, column) };
                         highest = highest.max(skip.walk_bounds(level, bi, bj).1);
                     }
