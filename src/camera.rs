@@ -309,6 +309,54 @@ impl Camera {
         }
     }
 
+    /// Where a perspective camera sees each world point of `points`: the
+    /// continuous pixel position `(px, py)` (pixel `(i, j)`'s centre at
+    /// `(i, j)`) whose ray ([`walk_ray`](Self::walk_ray), in exact
+    /// arithmetic on this camera's `f32` vectors) passes through it; `None`
+    /// for an orthographic camera or if a point is not strictly in front of
+    /// the camera plane. For [`crate::render::RayCull`], at set-up (`f64`).
+    pub(crate) fn pixels_of<const N: usize>(&self, points: [DVec3; N]) -> Option<[(f64, f64); N]> {
+        if self.projection != Projection::Perspective {
+            return None;
+        }
+        // `p − location = s·D + a·R + b·U`: the ray through `x0 = a/s`,
+        // `y0 = b/s` reaches `p` at `t = s`.
+        let basis = glam::DMat3::from_cols(dv(self.direction), dv(self.right), dv(self.up));
+        let inverse = basis.inverse();
+        let mut pixels = [(0.0, 0.0); N];
+        for (pixel, p) in pixels.iter_mut().zip(points) {
+            let [s, a, b] = (inverse * (p - dv(self.location))).to_array();
+            if !(s > 0.0) {
+                return None;
+            }
+            let (x0, y0) = (a / s, b / s);
+            // `x0 = x·inv_width − 0.5` with `x` the pixel index plus 0.5.
+            *pixel = (
+                (x0 + 0.5) / self.inv_width as f64 - 0.5,
+                (0.5 - y0) / self.inv_height as f64 - 0.5,
+            );
+        }
+        Some(pixels)
+    }
+
+    /// How many pixels, across and down, bound how far rounding moves
+    /// where a camera ray computed in `f32` ([`camera_ray`](Self::camera_ray))
+    /// and carried to a field's grid in `f32` points, 2^10 times over (see
+    /// [`crate::render::RayCull`]).
+    pub(crate) fn rounding_pixels(&self) -> (f64, f64) {
+        // Each direction component is a sum of three products, rounded
+        // four times, and `x0`, `y0` are rounded twice: an error of at most
+        // `6ε·(|D| + |R| + |U|)` (ε = 2^-24), which moves the ray by that
+        // over `|R|·inv_width` a pixel across (`|U|·inv_height` down): the
+        // camera's vectors are orthogonal (up to their rounding).
+        let spread = (self.direction.length() + self.right.length() + self.up.length()) as f64;
+        let error = 1024.0 * 6.0 * f64::from(f32::EPSILON) / 2.0 * spread;
+        (
+            error / (self.right.length() as f64 * self.inv_width as f64),
+            error / (self.up.length() as f64 * self.inv_height as f64),
+        )
+    }
+
     /// The ray through the centre of pixel `(px, py)`.
     #[inline]
     pub fn pixel_ray(&self, px: u32, py: u32) -> Ray {
