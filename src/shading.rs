@@ -994,8 +994,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         let to_light = light.position - hit.point;
         let dist = crate::math::length(to_light);
         // `dist <= f32::MAX`: `is_finite` for a positive value, in one
-        // float compare (`is_finite` is bit arithmetic on the Cortex-M4F).
-        if !(dist > 0.0 && dist <= f32::MAX) {
+        // float compare (`is_finite` is bit arithmetic on the Cortex-M4F);
+        // on the x87 both on the bits.
+        if !crate::math::is_positive_finite(dist) {
             return Vec3::ZERO;
         }
         let l = to_light / dist;
