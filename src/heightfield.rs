@@ -730,7 +730,7 @@ impl<'a> HeightField<'a> {
     /// widened by 2^-12 of the magnitudes the origin's `f32` map
     /// (`GridTransform::map_f32`) sums along it, 2^10 times its rounding (a
     /// few 2^-24 of those). `None` unless the field walks in `f32`. For
-    /// [`crate::render::RayCull`].
+    /// [`crate::camera::RayCull`].
     pub(crate) fn cull_corners(&self, from: DVec3) -> Option<[DVec3; 8]> {
         if self.numeric != Numeric::F32 {
             return None;

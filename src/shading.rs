@@ -78,12 +78,11 @@
 use glam::Vec3;
 use heapless::Vec;
 
-use crate::camera::{Camera, CameraPacket, CameraRay};
+use crate::camera::{Camera, CameraPacket, CameraRay, RayCull};
 use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
 use crate::packet::LANES;
 use crate::ray::{FieldHit, Ray};
-use crate::render::RayCull;
 use crate::render_error::{RenderError, MAX_AA};
 use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
