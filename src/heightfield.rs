@@ -722,6 +722,47 @@ impl<'a> HeightField<'a> {
         (self.min_units, self.max_units)
     }
 
+    /// The corners, in world space, of a box around every box the walks
+    /// of this field clip a ray from `from` to: the grid box
+    /// `[0, cells_u] × [lowest, highest sample] × [0, cells_v]`, its height
+    /// widened as the walk widens it (`1/64 + 16·ε·|y|` for a grid origin
+    /// at height `y`, ε = 2^-23; here with `32·ε·|y|`), and each axis
+    /// widened by 2^-12 of the magnitudes the origin's `f32` map
+    /// (`GridTransform::map_f32`) sums along it, 2^10 times its rounding (a
+    /// few 2^-24 of those). `None` unless the field walks in `f32`. For
+    /// [`crate::camera::RayCull`].
+    pub(crate) fn cull_corners(&self, from: DVec3) -> Option<[DVec3; 8]> {
+        if self.numeric != Numeric::F32 {
+            return None;
+        }
+        let map = &self.world_to_grid;
+        let origin = map.exact.transform_point3(from);
+        // `M·(p − c) + g`, term by term in magnitude.
+        let offset = (from - map.anchor.as_dvec3()).abs();
+        let m =
+            (map.exact.matrix3.abs() * offset + map.anchor_grid.as_dvec3().abs() + origin.abs())
+                / 4096.0;
+        let widened = 1.0 / 64.0 + origin.y.abs() * 32.0 * f64::from(f32::EPSILON);
+        let (lo, hi) = (
+            DVec3::new(0.0, self.min_units as f64 / 65536.0 - widened, 0.0) - m,
+            DVec3::new(
+                (self.width - 1) as f64,
+                self.max_units as f64 / 65536.0 + widened,
+                (self.depth - 1) as f64,
+            ) + m,
+        );
+        let to_world = map.exact.inverse();
+        let corners: [DVec3; 8] = core::array::from_fn(|k| {
+            let pick = |bit: usize, l: f64, h: f64| if k >> bit & 1 == 0 { l } else { h };
+            to_world.transform_point3(DVec3::new(
+                pick(0, lo.x, hi.x),
+                pick(1, lo.y, hi.y),
+                pick(2, lo.z, hi.z),
+            ))
+        });
+        corners.iter().all(|c| c.is_finite()).then_some(corners)
+    }
+
     /// World ray into grid space, in the precision of `S`
     /// (see [`Real::to_grid`]).
     #[inline]

@@ -117,6 +117,25 @@ pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
     normalize_or_zero_by(v, length(v))
 }
 
+/// `x > 0.0 && x <= f32::MAX`: `x` positive and finite (NaN is not).
+///
+/// On the x87 one integer compare on the bits: the positive finite floats
+/// are the bit patterns `1..=0x7f7f_ffff` (zeros, infinities, NaNs and
+/// negatives lie outside), where two float compares are `fucom`,
+/// `fnstsw`, `sahf` and a jump each (`tests::positive_finite_on_the_bits`
+/// checks every 251st pattern and the specials).
+#[inline(always)]
+pub(crate) fn is_positive_finite(x: f32) -> bool {
+    #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+    {
+        x.to_bits().wrapping_sub(1) < 0x7f7f_ffff
+    }
+    #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+    {
+        x > 0.0 && x <= f32::MAX
+    }
+}
+
 /// [`normalize_or_zero`] of `v` given its `length(v)`.
 #[inline(always)]
 pub(crate) fn normalize_or_zero_by(v: Vec3, length: f32) -> Vec3 {
@@ -124,7 +143,7 @@ pub(crate) fn normalize_or_zero_by(v: Vec3, length: f32) -> Vec3 {
     // `rcp.is_finite() && rcp > 0.0` as glam writes it, in two float
     // compares (`is_finite` is bit arithmetic: 15 more instructions on the
     // Cortex-M4F); NaN fails both.
-    if rcp > 0.0 && rcp <= f32::MAX {
+    if is_positive_finite(rcp) {
         v * rcp
     } else {
         Vec3::ZERO
@@ -158,6 +177,42 @@ mod tests {
             assert_eq!(sqrtf(x).to_bits(), libm::sqrtf(x).to_bits(), "{x:e}");
         }
         assert!(sqrtf(-1.0).is_nan() && sqrtf(f32::NAN).is_nan());
+    }
+
+    #[test]
+    fn positive_finite_on_the_bits() {
+        let bits = (0..=u32::MAX / 251).map(|k| k * 251);
+        let specials = [
+            0.0f32,
+            -0.0,
+            1e-45,
+            -1e-45,
+            f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::MIN,
+        ]
+        .into_iter()
+        .chain([
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            1.0,
+            -1.0,
+        ])
+        .map(f32::to_bits);
+        for b in bits
+            .chain(specials)
+            .chain([0x7f7f_ffff, 0x7f80_0001, 0x8000_0001])
+        {
+            let x = f32::from_bits(b);
+            assert_eq!(
+                x.to_bits().wrapping_sub(1) < 0x7f7f_ffff,
+                x > 0.0 && x <= f32::MAX,
+                "{b:#x}"
+            );
+            assert_eq!(is_positive_finite(x), x > 0.0 && x <= f32::MAX, "{b:#x}");
+        }
     }
 
     #[test]

@@ -53,6 +53,7 @@ use core::ops::{ControlFlow, Range};
 
 use glam::Vec3;
 
+pub use crate::camera::RayCull;
 use crate::camera::{Camera, CameraPacket, CameraRay};
 use crate::heightfield::{ColumnHint, HeightField};
 use crate::packet::{LANES, PACKETS};
@@ -351,10 +352,29 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     let norm = 1.0 / (n * n) as f32;
     // The walks' work, added to the stats once at the end.
     let mut counters = Counters::default();
+    if n == 1 && hints.is_none() {
+        // The one sample at the pixel centre (the loop below with its sum
+        // of one and `norm` 1 gives the same bits), for the pixels whose
+        // rays may reach something.
+        let cull = tracer.ray_cull(&camera);
+        let mut stats = drive_rows(settings, line, sink, |y, line, stats| {
+            let traced = cull.row(y);
+            for (x, slot) in (0u32..).zip(line.iter_mut()) {
+                let colour = if traced.contains(&x) {
+                    let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                    tracer.trace_camera_counting(&cam, None, stats, &mut counters)
+                } else {
+                    tracer.trace_missed(stats)
+                };
+                *slot = P::from_linear(colour, x, y);
+            }
+        });
+        stats.add_work(&counters);
+        return Ok(stats);
+    }
     let mut stats = drive(settings, line, sink, |x, y, stats| {
         if n == 1 {
-            // The one sample at the pixel centre: the loop below with its
-            // sum of one and `norm` 1 gives the same bits.
+            // As above, with the column's hints.
             let h = sample_hints(&mut hints, fields.len(), settings, x, 0, 0);
             let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
             let colour = tracer.trace_camera_counting(&cam, h, stats, &mut counters);

@@ -78,7 +78,7 @@
 use glam::Vec3;
 use heapless::Vec;
 
-use crate::camera::{CameraPacket, CameraRay};
+use crate::camera::{Camera, CameraPacket, CameraRay, RayCull};
 use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
 use crate::packet::LANES;
@@ -620,6 +620,36 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         self.trace_counted(&cam.ray, Primary::Camera(cam, hints), stats)
     }
 
+    /// The pixels of `camera`'s rows whose rays need tracing: the rest
+    /// reach no object ([`RayCull`]; only scenes of one height field leave
+    /// any out).
+    pub fn ray_cull(&self, camera: &Camera) -> RayCull {
+        let corners = match self.objects.as_slice() {
+            [only] => match *only.placed.primitive() {
+                Primitive::HeightField { field_index } => self
+                    .fields
+                    .get(field_index)
+                    .and_then(|f| f.cull_corners(camera.location().as_dvec3())),
+                #[cfg(feature = "primitives")]
+                _ => None,
+            },
+            _ => None,
+        };
+        RayCull::new(camera, corners)
+    }
+
+    /// What [`trace_camera`](Self::trace_camera) returns, and counts, for
+    /// a camera ray that reaches no object (walked without hints): a
+    /// primary ray that sees the background.
+    pub fn trace_missed(&self, stats: &mut Stats) -> Vec3 {
+        // As `segment` and `trace_from` go for such a ray.
+        if self.max_trace_level == 0 {
+            return Vec3::ZERO;
+        }
+        stats.primary_rays += 1;
+        Vec3::ZERO + self.background_seen
+    }
+
     /// [`trace_camera`](Self::trace_camera) with the height-field work
     /// (cells, triangle tests, blocks, resumed walks) added to `counters`,
     /// not to `stats`: a renderer adds them to its `stats` once
@@ -963,8 +993,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         let to_light = light.position - hit.point;
         let dist = crate::math::length(to_light);
         // `dist <= f32::MAX`: `is_finite` for a positive value, in one
-        // float compare (`is_finite` is bit arithmetic on the Cortex-M4F).
-        if !(dist > 0.0 && dist <= f32::MAX) {
+        // float compare (`is_finite` is bit arithmetic on the Cortex-M4F);
+        // on the x87 both on the bits.
+        if !crate::math::is_positive_finite(dist) {
             return Vec3::ZERO;
         }
         let l = to_light / dist;

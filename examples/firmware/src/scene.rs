@@ -803,13 +803,24 @@ impl<'s> Renderer<'s> {
             .get_mut(..width)
             .ok_or(FrameError::Render(RenderError::EmptyImage))?;
         let rgb565 = self.kind == FrameKind::Lcd;
-        for y in 0..height {
-            for (x, p) in line.iter_mut().enumerate() {
-                let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                let c = self
-                    .tracer
-                    .trace_camera_counting(&ray, None, &mut stats, &mut counters);
-                *p = Rgb888::from_linear(c, x as u32, y as u32);
+        // The pixels whose rays may reach the field (as `hfray::render`);
+        // the others are the background, converted once (`Rgb888` ignores
+        // the position).
+        let cull = self.tracer.ray_cull(&self.camera);
+        let missed = Rgb888::from_linear(self.tracer.trace_missed(&mut Stats::default()), 0, 0);
+        for y in 0..height as u32 {
+            let traced = cull.row(y);
+            for (x, p) in (0u32..).zip(line.iter_mut()) {
+                *p = if traced.contains(&x) {
+                    let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                    let c =
+                        self.tracer
+                            .trace_camera_counting(&ray, None, &mut stats, &mut counters);
+                    Rgb888::from_linear(c, x, y)
+                } else {
+                    self.tracer.trace_missed(&mut stats);
+                    missed
+                };
             }
             send_row(line, rgb565, &mut sink).map_err(FrameError::Sink)?;
             stats.rows += 1;
