@@ -522,6 +522,13 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         best_t
     }
 
+    /// What [`depth_camera`](Self::depth_camera) returns, and counts, for a
+    /// camera ray that reaches no object (walked without hints).
+    pub fn depth_missed(&self, stats: &mut Stats) -> f32 {
+        stats.primary_rays += 1;
+        f32::INFINITY
+    }
+
     /// [`depth_camera`](Self::depth_camera) of each lane of `cams`,
     /// neighbouring camera rays whose height-field walks are set up together
     /// ([`HeightField::intersect_t_packet`]): the same depths, bit for bit.
