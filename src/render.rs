@@ -342,15 +342,15 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     tracer.prepare(scene)?;
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     let n = settings.aa;
-    // (A coherent walk keeps its column's state from every ray: none is
-    // left out.)
-    let cull = match hints {
-        None => tracer.ray_cull(&camera),
-        Some(_) => RayCull::none(camera.width()),
-    };
     if PACKETS && n == 1 {
         // Packets of neighbouring pixel centres of the row, the same colours
         // (`Tracer::trace_camera_packet`); the row's last pixels one by one.
+        // (A coherent walk keeps its column's state from every ray: none is
+        // left out.)
+        let cull = match hints {
+            None => tracer.ray_cull(&camera),
+            Some(_) => RayCull::none(camera.width()),
+        };
         return Ok(drive_packets(
             settings,
             line,
@@ -377,6 +377,7 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
         // The one sample at the pixel centre (the loop below with its sum
         // of one and `norm` 1 gives the same bits), for the pixels whose
         // rays may reach something.
+        let cull = tracer.ray_cull(&camera);
         let mut stats = drive_rows(settings, line, sink, |y, line, stats| {
             let traced = cull.row(y);
             for (x, slot) in (0u32..).zip(line.iter_mut()) {
