@@ -258,6 +258,17 @@ fn drive_packets<T: Copy>(
     })
 }
 
+/// The pixels whose camera rays a render's packets trace
+/// ([`Tracer::ray_cull`]); all of them when the render is `coherent`: a
+/// coherent walk keeps its column's state from every ray.
+fn packet_cull<const O: usize>(tracer: &Tracer<'_, O>, camera: &Camera, coherent: bool) -> RayCull {
+    if coherent {
+        RayCull::none(camera.width())
+    } else {
+        tracer.ray_cull(camera)
+    }
+}
+
 /// The column hints of sample `(i, j)` of pixel column `x`: one per field.
 fn sample_hints<'h>(
     hints: &'h mut Option<&mut [ColumnHint]>,
@@ -345,12 +356,7 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     if PACKETS && n == 1 {
         // Packets of neighbouring pixel centres of the row, the same colours
         // (`Tracer::trace_camera_packet`); the row's last pixels one by one.
-        // (A coherent walk keeps its column's state from every ray: none is
-        // left out.)
-        let cull = match hints {
-            None => tracer.ray_cull(&camera),
-            Some(_) => RayCull::none(camera.width()),
-        };
+        let cull = packet_cull(&tracer, &camera, hints.is_some());
         return Ok(drive_packets(
             settings,
             line,
@@ -464,11 +470,7 @@ fn render_depth_with<const O: usize, const L: usize, const G: usize>(
     if PACKETS && (hints.is_none() || settings.aa == 1) {
         // Packets of neighbouring pixels of the row, the same depths
         // (`Tracer::depth_camera_packet`); the row's last pixels one by one.
-        // (Coherent walks leave no ray out, as in `render_with`.)
-        let cull = match hints {
-            None => tracer.ray_cull(&camera),
-            Some(_) => RayCull::none(camera.width()),
-        };
+        let cull = packet_cull(&tracer, &camera, hints.is_some());
         return Ok(drive_packets(
             settings,
             line,

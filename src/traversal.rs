@@ -714,12 +714,8 @@ impl<S: Real> Walk<S> {
         let walk = Walk {
             au: signed(self.au, SU),
             av: signed(self.av, SV),
-            // (Bare metal has no builds for a sign of `d_y`: the walk's own.)
-            rising: if cfg!(target_os = "none") {
-                self.rising
-            } else {
-                RISING
-            },
+            // (On bare metal, `false`, as `self.rising`: see `Walk::new`.)
+            rising: RISING,
             ..*self
         };
         walk.walk_hdda_in::<MOVING, LEVEL1, F>(field, skip, top, max_passes, start, stop, counters)
