@@ -56,13 +56,18 @@ fn main() {
     let size = (LCD_FIELD_WIDTH, LCD_FIELD_DEPTH);
     write_pyramid(&LCD_FIELD_SAMPLES, size, &out.join("lcd_pyramid.bin"));
     // The micro:bit's whole flash is 256 KiB: no room for the thesis field.
-    if board == "mps2-an386" {
+    // Nor in the `full` (primitives) build's 1 MiB, which spends it on the
+    // primitives' code and the walk's builds for each sign of `d_y`.
+    let primitives = env::var_os("CARGO_FEATURE_PRIMITIVES").is_some();
+    if board == "mps2-an386" && !primitives {
         let mut field = vec![0u8; THESIS_SAMPLES];
         thesis_field(&mut field).expect("thesis field parameters");
         fs::write(out.join("thesis_field.u8"), &field).unwrap();
         let side = (THESIS_SIDE, THESIS_SIDE);
         write_pyramid(&field, side, &out.join("thesis_pyramid.bin"));
         println!("cargo:rustc-cfg=hfray_thesis_in_flash");
+    }
+    if board == "mps2-an386" {
         // The smooth fields' vertex normals (`lcd` 170 KB, `base` 32 KB;
         // the micro:bit draws the fixed-point frame, which does not read
         // them).
