@@ -685,7 +685,6 @@ impl<S: Real> Walk<S> {
         field: &F,
         skip: &SkipGrid<'_>,
         top: u8,
-        max_passes: u32,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -697,9 +696,7 @@ impl<S: Real> Walk<S> {
         // full render; the eight builds of 14–18 KB each added no
         // instruction-cache misses of note, cachegrind: 36 K in 727 M).
         if SU == 0 && SV == 0 {
-            return self.walk_hdda_in::<MOVING, LEVEL1, F>(
-                field, skip, top, max_passes, start, stop, counters,
-            );
+            return self.walk_hdda_in::<MOVING, LEVEL1, F>(field, skip, top, start, stop, counters);
         }
         let signed = |a: Axis<S>, step: i32| match step {
             0 => a,
@@ -716,7 +713,7 @@ impl<S: Real> Walk<S> {
             rising: RISING,
             ..*self
         };
-        walk.walk_hdda_in::<MOVING, LEVEL1, F>(field, skip, top, max_passes, start, stop, counters)
+        walk.walk_hdda_in::<MOVING, LEVEL1, F>(field, skip, top, start, stop, counters)
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -726,7 +723,6 @@ impl<S: Real> Walk<S> {
         field: &F,
         skip: &SkipGrid<'_>,
         top: u8,
-        max_passes: u32,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -763,16 +759,16 @@ impl<S: Real> Walk<S> {
         let mut side = Exit::U;
         // Visiting cells skips none, so the walk may start at any level.
         let mut level = self.start_level.min(top);
-        // Every iteration of the block loop spends one pass of `passes`
-        // (`hdda_passes`), and returns when none is left. The cell loop
-        // needs no such count: each visit ends the walk or steps to the next
-        // cell along a moving axis, and cells are never visited twice (every
-        // step, of a cell or a block, and every `locate` moves forward), so
-        // it visits at most `cells_u + cells_v + 1` cells in all; a step out
-        // of the field would fail `cell_raw`'s bounds checks, never loop.
-        // (Cortex-M4F base frame 13.29 -> 13.14 M: the count and its spills
-        // out of the cell loop.)
-        let mut passes = max_passes;
+        // The loops need no count of passes to end: each cell visit ends
+        // the walk or steps to the next cell, each block pass descends a
+        // level or steps to the next block, always forward (as does
+        // `locate`), and only a step climbs; so the walk makes at most
+        // `cells_u + cells_v + 1` steps with at most `top` descents after
+        // each (`hdda_counts_fit`). A step out of the field would fail the
+        // bounds checks of `cell_raw` or `walk_bounds`, never loop.
+        // (Cortex-M4F base frame 13.29 -> 13.00 M without the count, its
+        // tests and spills; bench512 callgrind 2,768 -> 2,713 a pixel.)
+        let mut blocks = 0u32;
         let hit = 'walk: loop {
             // Cells, while no block needs testing (the branch sites of the
             // cell and block loops stay apart: their outcomes differ).
@@ -819,10 +815,7 @@ impl<S: Real> Walk<S> {
                 av.at_line::<MOVING>(v_edge, o[2]),
             );
             loop {
-                if passes == 0 {
-                    break 'walk None;
-                }
-                passes -= 1;
+                blocks += 1;
                 // The far side of the block's last column (row), as
                 // `au.exit(last column)` computes it. `(b + 1) << shift` is
                 // at most 2^20 + 2^30: no overflow. (Parallel axis: any line;
@@ -917,7 +910,7 @@ impl<S: Real> Walk<S> {
                 }
             }
         };
-        counters.blocks += (max_passes - passes) as u64;
+        counters.blocks += blocks as u64;
         counters.cells += cells as u64;
         hit
     }
@@ -1607,16 +1600,16 @@ fn walk<S: Real, F: WalkGrid>(
     }
 }
 
-/// A bound on the block passes of [`Walk::walk_hdda`] with `top` levels,
-/// if it fits a `u32` (a 32-bit count is cheaper on 32-bit targets; every
-/// field the `f32` and fixed-point walks take fits): each pass steps a
-/// block (advancing at least one cell, at most `cells_u + cells_v + 1` in
-/// all) or descends one level (at most `top` per step or cell visit). Without
-/// it (`f64` walks of fields of hundreds of millions of cells per side)
-/// the ray takes the block-jumping walk, as exact.
-fn hdda_passes<S>(walk: &Walk<S>, top: u8) -> Option<u32> {
+/// Whether the passes of [`Walk::walk_hdda`] with `top` levels fit its
+/// `u32` counts (cheaper than 64-bit ones on 32-bit targets; every field
+/// the `f32` and fixed-point walks take fits): the walk makes at most
+/// `cells_u + cells_v + 1` steps, each a cell visit or a block step, and at
+/// most `top` descents after each. If not (`f64` walks of fields of
+/// hundreds of millions of cells per side) the ray takes the block-jumping
+/// walk, as exact.
+fn hdda_counts_fit<S>(walk: &Walk<S>, top: u8) -> bool {
     let cells = walk.cells_u as u64 + walk.cells_v as u64 + 1;
-    u32::try_from(cells * (top as u64 + 2) + 1).ok()
+    cells * (top as u64 + 2) + 1 <= u32::MAX as u64
 }
 
 impl<S: Real> Walk<S> {
@@ -1932,12 +1925,12 @@ impl<S: Real> Walk<S> {
             // from the field), walk flat.
             let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
             let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
-            if let (true, Some(passes)) = (u_strict && v_strict, hdda_passes(self, top)) {
+            if u_strict && v_strict && hdda_counts_fit(self, top) {
                 return if TWO_BUILDS && au.step != 0 && av.step != 0 {
-                    self.walk_hdda_moving(field, skip, top, passes, start, stop, counters)
+                    self.walk_hdda_moving(field, skip, top, start, stop, counters)
                 } else {
                     self.walk_hdda::<false, false, 0, 0, false, F>(
-                        field, skip, top, passes, start, stop, counters,
+                        field, skip, top, start, stop, counters,
                     )
                 };
             }
@@ -1972,7 +1965,6 @@ impl<S: Real> Walk<S> {
         field: &F,
         skip: &SkipGrid<'_>,
         top: u8,
-        passes: u32,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -1982,19 +1974,18 @@ impl<S: Real> Walk<S> {
             ($level1:expr, $su:expr, $sv:expr) => {
                 if self.rising {
                     self.walk_hdda::<true, $level1, $su, $sv, true, F>(
-                        field, skip, top, passes, start, stop, counters,
+                        field, skip, top, start, stop, counters,
                     )
                 } else {
                     self.walk_hdda::<true, $level1, $su, $sv, false, F>(
-                        field, skip, top, passes, start, stop, counters,
+                        field, skip, top, start, stop, counters,
                     )
                 }
             };
         }
         match (by_sign, top == 1, self.au.step > 0, self.av.step > 0) {
-            (false, ..) => self.walk_hdda::<true, false, 0, 0, false, F>(
-                field, skip, top, passes, start, stop, counters,
-            ),
+            (false, ..) => self
+                .walk_hdda::<true, false, 0, 0, false, F>(field, skip, top, start, stop, counters),
             (true, true, true, true) => build!(true, 1, 1),
             (true, true, true, false) => build!(true, 1, -1),
             (true, true, false, true) => build!(true, -1, 1),
