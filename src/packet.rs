@@ -376,7 +376,11 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     let i = first_cells(&entry_u, &d[0], cells_u);
     let j = first_cells(&entry_v, &d[2], cells_v);
 
-    let walked: [bool; LANES] = lanes(|l| covered[l] && t_near[l] <= t_far[l]);
+    // (From the lanes' compares' bits: bench512 7 instructions a primary
+    // ray fewer than lane by lane, rmnp_gradient 9.)
+    let near_far = span.0[0].cmple(span.1[0]).bitmask() | span.0[1].cmple(span.1[1]).bitmask() << 4;
+    let walked_bits = covered_bits & near_far;
+    let walked: [bool; LANES] = lanes(|l| walked_bits >> l & 1 != 0);
     let shared = |from: &[bool; LANES]| quad_starts(field, rays, &inv, (&i, &j), &t_far, from);
     let walk_of = |l: usize| lane_walk(field, rays, &inv, t_far[l], water, l);
 
