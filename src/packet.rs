@@ -59,8 +59,8 @@ use crate::real::Real;
 use crate::skip::SkipGrid;
 use crate::transform::GridTransform;
 use crate::traversal::{
-    first_cell, nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay,
-    LineStart, Traversal, Walk, WalkGrid,
+    nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, LineStart,
+    Traversal, Walk, WalkGrid,
 };
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
@@ -213,6 +213,27 @@ pub(crate) fn map_f32(map: &GridTransform, rays: &RayPacket) -> RayPacket {
     }
 }
 
+/// Lane-wise `a` where `a > b`, else `b` ([`Real::max`]`(b, a)`): SSE's
+/// `maxps` exactly, into which LLVM folds it, where `Vec4::select` of the
+/// comparison took three instructions (and `Vec4::max` is `maxps` only in
+/// glam's SSE2 build). In the slab clip and the entry clamp: bench512 7
+/// instructions a primary ray fewer, rmnp_gradient 8, level_rmnp 12.
+#[inline(always)]
+fn gt_or(a: Vec4, b: Vec4) -> Vec4 {
+    let (a, b) = (a.to_array(), b.to_array());
+    let f = |l: usize| if a[l] > b[l] { a[l] } else { b[l] };
+    Vec4::new(f(0), f(1), f(2), f(3))
+}
+
+/// Lane-wise `a` where `a < b`, else `b` ([`Real::min`]`(b, a)`; `minps`,
+/// see [`gt_or`]).
+#[inline(always)]
+fn lt_or(a: Vec4, b: Vec4) -> Vec4 {
+    let (a, b) = (a.to_array(), b.to_array());
+    let f = |l: usize| if a[l] < b[l] { a[l] } else { b[l] };
+    Vec4::new(f(0), f(1), f(2), f(3))
+}
+
 /// `[t_min, t_max]` clipped lane-wise to the slab `lo..=hi` along an axis
 /// with origins `o` and (finite, non-zero) reciprocals `inv`: `slab` of
 /// [`crate::traversal`] without its early exit, each comparison as
@@ -228,11 +249,41 @@ fn clip(
     for h in 0..2 {
         let a = (lo[h] - o[h]) * inv[h];
         let b = (hi[h] - o[h]) * inv[h];
-        let swap = a.cmpgt(b);
-        let (a, b) = (Vec4::select(swap, b, a), Vec4::select(swap, a, b));
-        t.0[h] = Vec4::select(a.cmpgt(t.0[h]), a, t.0[h]);
-        t.1[h] = Vec4::select(b.cmplt(t.1[h]), b, t.1[h]);
+        let (a, b) = (lt_or(b, a), gt_or(a, b));
+        t.0[h] = gt_or(a, t.0[h]);
+        t.1[h] = lt_or(b, t.1[h]);
     }
+}
+
+/// [`first_cell`] of each walked lane's entry coordinate `p` (within
+/// `0..=cells`, at most 2^20) along an axis on which its direction is `d`
+/// (not zero), lane-wise on `Vec4`s, with the same result: the floor of
+/// `p`, one less on a grid line when moving down, within the cells. The
+/// integers are in `f32`, exact below 2^23, and come out of the bits of
+/// `2^23 + c`: no saturating conversion, which LLVM keeps scalar. (The
+/// lanes that are not walked get some cell.) Bench512: 12 instructions a
+/// primary ray fewer than lane by lane, rmnp_gradient 11, level_rmnp 16.
+#[inline(always)]
+fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> [i32; LANES] {
+    const TWO_23: f32 = 8_388_608.0;
+    let (p, d) = (pair(p), pair(d));
+    let one_if = |m: BVec4A| Vec4::select(m, Vec4::ONE, Vec4::ZERO);
+    let half = |h: usize| {
+        // The nearest integer, then the floor.
+        let n = (p[h] + Vec4::splat(TWO_23)) - Vec4::splat(TWO_23);
+        let floor = n - one_if(n.cmpgt(p[h]));
+        let back = one_if(floor.cmpeq(p[h]) & d[h].cmple(Vec4::ZERO));
+        let c = (floor - back)
+            .max(Vec4::ZERO)
+            .min(Vec4::splat((cells - 1) as f32));
+        c + Vec4::splat(TWO_23)
+    };
+    let c = unpair([half(0), half(1)]);
+    let mut i = [0; LANES];
+    for l in 0..LANES {
+        i[l] = (c[l].to_bits() - TWO_23.to_bits()) as i32;
+    }
+    i
 }
 
 /// [`nearest`] (not `any`) for each of `rays`, over the same `[t_min,
@@ -276,8 +327,11 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     let covered_bits = covered[0].bitmask() | covered[1].bitmask() << 4;
     let covered: [bool; LANES] = lanes(|l| covered_bits >> l & 1 != 0);
     let mut hits = [None; LANES];
+    // (Most packets have no such lane: the loop is skipped. Bench512 4
+    // instructions a primary ray fewer.)
+    let lone = !walks_all || covered_bits != (1 << LANES) - 1;
     for l in 0..LANES {
-        if !covered[l] || !walks_all {
+        if lone && (!covered[l] || !walks_all) {
             let ray = rays.grid_ray(l);
             hits[l] = match columns.as_deref_mut() {
                 Some(columns) => {
@@ -315,18 +369,21 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     let entry = |k: usize, last: f32| {
         let half = |h: usize| {
             let e = o4[k][h] + span.0[h] * d4[k][h];
-            let e = Vec4::select(Vec4::ZERO.cmpgt(e), Vec4::ZERO, e);
-            Vec4::select(Vec4::splat(last).cmplt(e), Vec4::splat(last), e)
+            let e = gt_or(Vec4::ZERO, e);
+            lt_or(Vec4::splat(last), e)
         };
         unpair([half(0), half(1)])
     };
     let (entry_u, entry_v) = (entry(0, last_u), entry(2, last_v));
     let (t_near, t_far) = (unpair(span.0), unpair(span.1));
-    let step = |k: usize, l: usize| if d[k][l] > 0.0 { 1 } else { -1 };
-    let i: [i32; LANES] = lanes(|l| first_cell(entry_u[l], step(0, l), cells_u));
-    let j: [i32; LANES] = lanes(|l| first_cell(entry_v[l], step(2, l), cells_v));
+    let i = first_cells(&entry_u, &d[0], cells_u);
+    let j = first_cells(&entry_v, &d[2], cells_v);
 
-    let walked: [bool; LANES] = lanes(|l| covered[l] && t_near[l] <= t_far[l]);
+    // (From the lanes' compares' bits: bench512 7 instructions a primary
+    // ray fewer than lane by lane, rmnp_gradient 9.)
+    let near_far = span.0[0].cmple(span.1[0]).bitmask() | span.0[1].cmple(span.1[1]).bitmask() << 4;
+    let walked_bits = covered_bits & near_far;
+    let walked: [bool; LANES] = lanes(|l| walked_bits >> l & 1 != 0);
     let shared = |from: &[bool; LANES]| quad_starts(field, rays, &inv, (&i, &j), &t_far, from);
     let walk_of = |l: usize| lane_walk(field, rays, &inv, t_far[l], water, l);
 
@@ -394,7 +451,6 @@ fn quad_starts<F: WalkGrid>(
     let quad = |q: usize| {
         let four = |v: &[i32; LANES]| [v[q], v[q + 1], v[q + 2], v[q + 3]];
         let from = [from[q], from[q + 1], from[q + 2], from[q + 3]];
-        let t_far = Vec4::from_slice(&t_far[q..q + 4]);
         shared_start(
             field,
             skip,
@@ -494,16 +550,18 @@ fn shared_start<F: WalkGrid>(
     inv: &[Lanes; 3],
     walked: [bool; 4],
     first: [[i32; 4]; 2],
-    t_far: Vec4,
+    t_far: &Lanes,
     quad: usize,
 ) -> Option<SharedStart> {
     let lead = walked.iter().position(|&w| w)?;
     // Lanes that are not walked take the lead lane's ray: the bound is the
-    // same, and the lane-wise steps below need no masks.
+    // same, and the lane-wise steps below need no masks. (The lead's value
+    // read from the array, not taken out of a `Vec4` by a jump table:
+    // bench512 3 instructions a primary ray fewer.)
     let mask = BVec4A::from_array(walked);
     let fill = |v: &Lanes| -> Vec4 {
-        let v = Vec4::from_slice(&v[quad..quad + 4]);
-        Vec4::select(mask, v, Vec4::splat(v[lead]))
+        let four = Vec4::from_slice(&v[quad..quad + 4]);
+        Vec4::select(mask, four, Vec4::splat(v[quad + lead]))
     };
     let d = &rays.direction;
     let (d_u, d_v) = (fill(&d[0]), fill(&d[2]));
@@ -523,9 +581,9 @@ fn shared_start<F: WalkGrid>(
         (0, 0) => return None,
         (_, 0) => true,
         (0, _) => false,
-        _ => Real::abs(d_u[lead]) >= Real::abs(d_v[lead]),
+        _ => Real::abs(d[0][quad + lead]) >= Real::abs(d[2][quad + lead]),
     };
-    let t_far = Vec4::select(mask, t_far, Vec4::splat(t_far[lead]));
+    let t_far = fill(t_far);
     macro_rules! build {
         ($along_u:expr, $up:expr) => {
             march::<F, $along_u, $up>(
@@ -588,74 +646,75 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
     }
     k += (step < 0) as i32;
     let start = k;
-    // At line `k`: each lane's `t`, and the lanes' lowest `y` and the range
-    // of their coordinates across.
-    let at = |k: i32| -> (Vec4, [f32; 3]) {
+    // At line `k`: each lane's `t`, and the range of the lanes'
+    // coordinates across.
+    let at = |k: i32| -> (Vec4, [f32; 2]) {
         let t = (Vec4::splat(k as f32) - o_a) * inv_a;
         let across = o_b + t * d_b;
-        let y = o_y + t * d_y;
-        (
-            t,
-            [y.min_element(), across.min_element(), across.max_element()],
-        )
+        (t, [across.min_element(), across.max_element()])
     };
     let log2 = skip.block_log2() as u32;
     let top = skip.levels() as u32;
     let mult = field.units_per_sample();
     let last_row = (cells_b - 1) as f32;
     let mut level = top;
-    let mut here = at(k).1;
+    // `log2·level`, and the level's bounds, kept from step to step; the
+    // lanes' `y` compared lane-wise, not reduced (with `LevelHighs`:
+    // bench512 21 instructions a primary ray fewer, rmnp_gradient 11,
+    // level_rmnp 20).
+    let mut shift = log2 * level;
+    let mut highs = skip.level_highs(level);
+    let (t_here, mut here) = at(k);
+    // Each lane's `y` at line `k`: the lowest over the lanes and both lines
+    // is compared lane-wise (no `y` is NaN: the lanes' components are
+    // finite and their directions not zero).
+    let mut y_here = o_y + t_here * d_y;
     let passes = (cells_a as u32 + 2) * (top + 1);
+    // In the loop, `k` is a line inside the field (`0..cells_a` up,
+    // `1..=cells_a` down), so the columns between the lines, the block
+    // column `column` below, are never empty.
+    debug_assert!(cells_a >= 1 && (if UP { k < cells_a } else { k >= 1 }));
     for _ in 0..passes {
-        let shift = log2 * level;
-        let next = if step > 0 {
+        let next = if UP {
             ((k >> shift) + 1) << shift
         } else {
             ((k - 1) >> shift) << shift
         };
         let (t_next, there) = at(next);
-        let low = Real::min(here[0], there[0]);
-        let (lo, hi) = (Real::min(here[1], there[1]), Real::max(here[2], there[2]));
+        let y_there = o_y + t_next * d_y;
+        let (lo, hi) = (Real::min(here[0], there[0]), Real::max(here[1], there[1]));
         let eps = (Real::max(-lo, hi) + slack) * (1.0 / (1u32 << 21) as f32);
         let (lo, hi) = (lo - eps, hi + eps);
-        // The columns between the lines (in one block of this level) and
-        // the rows the lanes may be in, within the field (none when the
+        // The rows the lanes may be in, within the field (none when the
         // lanes are past its side; a NaN range is not culled).
-        let (col_lo, col_hi) = if step > 0 {
-            (k, next - 1)
-        } else {
-            (next, k - 1)
-        };
-        let (col_lo, col_hi) = (col_lo.max(0), col_hi.min(cells_a - 1));
         // (Truncation is the floor where it matters: at or above 0.)
-        let row_lo = (lo as i32).max(0);
-        let row_hi = if hi >= 0.0 {
-            Real::min(hi, last_row) as i32
-        } else {
-            -1
-        };
         let culled = !(lo.is_nan() || hi.is_nan())
-            && (col_lo > col_hi || row_lo > row_hi || {
-                let (b_lo, b_hi) = ((row_lo >> shift) as u32, (row_hi >> shift) as u32);
-                b_hi - b_lo < MAX_ACROSS && {
-                    let column = (col_lo >> shift) as u32;
-                    let mut highest = 0;
-                    for r in b_lo..b_hi + 1 {
-                        let (bi, bj) = if along_u { (column, r) } else { (r, column) };
-                        highest = highest.max(skip.walk_bounds(level, bi, bj).1);
+            && (hi < 0.0 || {
+                let row_lo = (lo as i32).max(0);
+                let row_hi = Real::min(hi, last_row) as i32;
+                row_lo > row_hi || {
+                    let (b_lo, b_hi) = ((row_lo >> shift) as u32, (row_hi >> shift) as u32);
+                    b_hi - b_lo < MAX_ACROSS && {
+                        // The block column between the lines.
+                        let column = (if UP { k } else { next } >> shift) as u32;
+                        let highest = highs.highest(along_u, column, b_lo, b_hi);
+                        let h = Vec4::splat(f32::from_raw_height(highest, mult));
+                        y_here.min(y_there).cmpgt(h).all()
                     }
-                    low > f32::from_raw_height(highest, mult)
                 }
             });
         if culled {
             k = next;
             here = there;
+            y_here = y_there;
             let past_field = if step > 0 { k >= cells_a } else { k <= 0 };
             if past_field || t_next.cmpge(t_far).all() {
                 return Some(SharedStart { along_u, line: k });
             }
         } else if level > 1 {
             level -= 1;
+            shift -= log2;
+            highs = skip.level_highs(level);
         } else {
             return (k != start).then_some(SharedStart { along_u, line: k });
         }

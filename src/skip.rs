@@ -522,6 +522,21 @@ impl<'a> SkipGrid<'a> {
         }
     }
 
+    /// Level `level` (`1..=levels`) as [`LevelHighs`] reads it.
+    #[inline(always)]
+    pub(crate) fn level_highs(&self, level: u32) -> LevelHighs<'a> {
+        let l = (level.wrapping_sub(1) % MAX_LEVELS as u32) as usize;
+        let sb = self.sample_bytes as usize;
+        LevelHighs {
+            bytes: self.bytes,
+            // The high bound follows the low one.
+            base: self.offsets[l] as usize + sb,
+            step_u: 2 * sb,
+            step_v: self.blocks_u[l] as usize * 2 * sb,
+            wide: sb != 1,
+        }
+    }
+
     /// `(min, max)` raw sample of block `(bi, bj)` of `level` (1-based).
     /// Panics if out of range.
     #[inline(always)]
@@ -580,6 +595,12 @@ fn block_out_of_range(level: u32, bi: u32, bj: u32) -> ! {
     panic!("skip block ({bi}, {bj}) of level {level} is outside the grid")
 }
 
+#[cold]
+#[inline(never)]
+fn run_out_of_range(column: u32, b_hi: u32) -> ! {
+    panic!("skip block run of column {column} to {b_hi} is outside the grid")
+}
+
 #[inline(always)]
 fn get(bytes: &[u8], offset: u32, bu: u32, sb: u8, bi: u32, bj: u32) -> (u32, u32) {
     let index = (bj as usize * bu as usize + bi as usize) * 2 * sb as usize + offset as usize;
@@ -590,5 +611,56 @@ fn get(bytes: &[u8], offset: u32, bu: u32, sb: u8, bi: u32, bj: u32) -> (u32, u3
             u16::from_le_bytes([bytes[index], bytes[index + 1]]) as u32,
             u16::from_le_bytes([bytes[index + 2], bytes[index + 3]]) as u32,
         )
+    }
+}
+
+/// The high bounds of one level of a [`SkipGrid`], for the highest of a
+/// run of blocks ([`SkipGrid::level_highs`]): the level's arrays looked up
+/// once, not at every block (the packet's march reads runs of a level
+/// many times, see `packet::shared_start`).
+#[derive(Clone, Copy)]
+pub(crate) struct LevelHighs<'a> {
+    bytes: &'a [u8],
+    /// Index of block `(0, 0)`'s high bound.
+    base: usize,
+    /// Index steps to the next block along `u` and along `v`.
+    step_u: usize,
+    step_v: usize,
+    /// Two bytes a bound (16-bit samples).
+    wide: bool,
+}
+
+impl LevelHighs<'_> {
+    /// The highest high bound of blocks `across` `b_lo..=b_hi` in
+    /// column (or row, unless `along_u`) `column` of blocks, as the
+    /// maximum of [`SkipGrid::walk_bounds`]' high bounds. Panics if out of
+    /// range.
+    #[inline(always)]
+    pub(crate) fn highest(&self, along_u: bool, column: u32, b_lo: u32, b_hi: u32) -> u32 {
+        let (step_a, step_b) = if along_u {
+            (self.step_u, self.step_v)
+        } else {
+            (self.step_v, self.step_u)
+        };
+        let mut at = self.base + column as usize * step_a + b_lo as usize * step_b;
+        let mut highest = 0;
+        // (Not `b_lo..=b_hi`, whose loop LLVM builds worse: bench512 10
+        // instructions a primary ray more.)
+        for _ in 0..b_hi - b_lo + 1 {
+            let high = if self.wide {
+                match self.bytes.get(at + 1) {
+                    Some(&hi) => u16::from_le_bytes([self.bytes[at], hi]) as u32,
+                    None => run_out_of_range(column, b_hi),
+                }
+            } else {
+                match self.bytes.get(at) {
+                    Some(&hi) => hi as u32,
+                    None => run_out_of_range(column, b_hi),
+                }
+            };
+            highest = highest.max(high);
+            at += step_b;
+        }
+        highest
     }
 }
