@@ -400,9 +400,11 @@ impl<S: Real> Walk<S> {
     /// sums saturate), so `y_a ≤ y_b` when `d_y ≥ 0` and `y_a ≥ y_b` when
     /// `d_y ≤ 0`. The walk's builds for a sign of `d_y` fold the choice
     /// away. Measured: bench512 11 instructions a primary ray fewer and 53
-    /// a pixel of the full render; the i486's base frame 2.9% fewer. Not on
-    /// bare metal, whose flash has no room for those builds, and where the
-    /// Cortex-M4F's base frame took 1.3% more with the choice made per use.
+    /// a pixel of the full render; the i486's base frame 2.9% fewer; the
+    /// Cortex-M4F's base frame 13.71 -> 13.29 M and `lcd` 49.42 -> 47.88 M
+    /// (`.text` +26 KB; its `thesis`, walked over three levels in the one
+    /// build for every sign, with the choice made per use: 230.60 ->
+    /// 231.17 M).
     #[inline(always)]
     fn y_range(&self, y_a: S, y_b: S) -> (S, S) {
         if self.rising {
@@ -709,7 +711,6 @@ impl<S: Real> Walk<S> {
         let walk = Walk {
             au: signed(self.au, SU),
             av: signed(self.av, SV),
-            // (On bare metal, `false`, as `self.rising`: see `Walk::new`.)
             rising: RISING,
             ..*self
         };
@@ -1642,7 +1643,6 @@ impl<S: Real> Walk<S> {
             water,
             water_units,
             mult: field.units_per_sample(),
-            // (Unused on bare metal: see `y_range`.)
             rising: d[1] >= S::ZERO,
             wet: water_units != 0 || water > S::ZERO,
             v_strict: true,
@@ -1955,9 +1955,9 @@ impl<S: Real> Walk<S> {
     /// values to copy, got dearer (the 486SX's fixed frame: 46.05 -> 47.02 M
     /// instructions). So do bare-metal chips for walks over more than one
     /// level, to keep their flash for data (the builds for each sign of
-    /// both walks took 46 KB of the Cortex-M4F's flash, which the `full`
-    /// firmware no longer had; the firmware's `base` and `lcd` fields walk
-    /// level 1 only).
+    /// both walks took 46 KB of the Cortex-M4F's flash; the firmware's
+    /// `base` and `lcd` fields walk level 1 only, in a build for each sign
+    /// of both steps and of `d_y`).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn walk_hdda_moving<F: WalkGrid>(
