@@ -351,6 +351,7 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     // Made where it stays (see `Tracer::empty`).
     let mut tracer = Tracer::empty(scene, fields);
     tracer.prepare(scene)?;
+    tracer.prepare_camera(&camera);
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     let n = settings.aa;
     if PACKETS && n == 1 {

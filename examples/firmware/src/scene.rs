@@ -661,7 +661,10 @@ pub enum Frame {
 /// frame size), handing the pixels' RGB bytes to `sink` in pieces of up to
 /// [`PIECE_PIXELS`] pixels, row 0 first, left to right. Stops at the first
 /// sink error. The firmware passes a constant `frame`, so only one renderer
-/// is linked.
+/// is linked (inlined, with [`draw_rows`], so that the constant reaches
+/// [`SceneDraw::draw`]: out of line, both renderers were linked, and the
+/// Cortex-M4F image outgrew its flash).
+#[inline(always)]
 pub fn render<E>(
     frame: Frame,
     kind: FrameKind,
@@ -731,6 +734,7 @@ impl<const LIGHTS: usize> Draw for hfray::fixed_frame::FixedTracer<'_, LIGHTS> {
 /// frame's width), handing each finished row to `sink` as the bytes it is
 /// sent as, [`PIECE_PIXELS`] pixels at a time; stops at the first sink
 /// error.
+#[inline(always)]
 fn draw_rows<E>(
     kind: FrameKind,
     line: &mut [Rgb888],
@@ -791,10 +795,13 @@ impl<'s> Renderer<'s> {
     /// `Tracer::trace_camera` (itself bounded by hfray), as `hfray::render`
     /// traces it.
     pub fn render<E>(
-        &self,
+        &mut self,
         line: &mut [Rgb888],
         mut sink: impl FnMut(&[u8]) -> Result<(), E>,
     ) -> Result<Stats, FrameError<E>> {
+        // Here, not in `new`: the i486 sets up and renders with different
+        // x87 precisions, and this is the frame's `f32` arithmetic.
+        self.tracer.prepare_camera(&self.camera);
         let mut stats = Stats::default();
         // The walks' work, added to `stats` once (as `hfray::render`).
         let mut counters = Counters::default();
