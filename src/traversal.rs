@@ -132,14 +132,19 @@ impl<S: Real> Axis<S> {
             off: 0,
             inv: S::ZERO,
         };
-        if d == S::ZERO {
+        // Floats need no zero test: `1/±0` is infinite, which the
+        // finiteness test rejects (fixed point saturates: it tests). Past
+        // the tests `d` is neither zero nor NaN, so its sign bit says
+        // `d > 0`, without a float compare. (Base frames: Cortex-M4F
+        // 13.10 -> 13.08 M instructions, i486 20.39 -> 20.26 M.)
+        if S::ALL_FINITE && d == S::ZERO {
             return parallel;
         }
         let inv = S::ONE / d;
         if !inv.is_finite() {
             return parallel;
         }
-        let up = d > S::ZERO;
+        let up = d.positive_nonzero();
         Axis {
             step: if up { 1 } else { -1 },
             off: up as i32,
