@@ -929,11 +929,6 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         if n.dot(d) > 0.0 {
             n = -n;
         }
-        let ng = if geometric.dot(d) > 0.0 {
-            -geometric
-        } else {
-            geometric
-        };
 
         let Paint {
             color: colour,
@@ -956,6 +951,14 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let weight = p.weight * finish.reflection.max_element();
             if weight >= ADC_BAILOUT {
                 let mut r = d - n * (2.0 * d.dot(n));
+                // Made here, where only a reflection needs it: made for
+                // every hit, it cost the Cortex-M4F base frame 15
+                // instructions a hit (13.08 -> 13.05 M; i486 20.26 -> 20.17 M).
+                let ng = if geometric.dot(d) > 0.0 {
+                    -geometric
+                } else {
+                    geometric
+                };
                 if r.dot(ng) < 0.0 {
                     r = d - ng * (2.0 * d.dot(ng));
                 }
