@@ -389,8 +389,8 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
             let traced = cull.row(y);
             for (x, slot) in (0u32..).zip(line.iter_mut()) {
                 let colour = if traced.contains(&x) {
-                    let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                    tracer.trace_camera_counting(&cam, None, stats, &mut counters)
+                    let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+                    tracer.trace_pixel_counting(&camera, cx, cy, stats, &mut counters)
                 } else {
                     tracer.trace_missed(stats)
                 };

@@ -84,7 +84,7 @@ use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
 use crate::packet::LANES;
 use crate::ray::{FieldHit, Ray};
 use crate::render_error::{RenderError, MAX_AA};
-use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Scene, Shape};
+use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Projection, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
 use crate::stats::Stats;
 use crate::traversal::{Counters, FootprintStart, GridRay, OriginSlabs};
@@ -464,10 +464,29 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     fn nearest_camera_local(
         &self,
         cam: &CameraRay,
-        mut hints: Option<&mut [ColumnHint]>,
+        hints: Option<&mut [ColumnHint]>,
         best: &mut Option<(usize, LocalHit)>,
         counters: &mut Counters,
     ) {
+        let best_t = self.nearest_fields(&cam.walk, || cam.length, hints, best, counters);
+        self.nearest_analytic(&cam.ray, best_t, best, counters);
+    }
+
+    /// The height fields' part of
+    /// [`nearest_camera_local`](Self::nearest_camera_local) for the camera
+    /// ray along `walk` whose `|walk.direction|` `length` gives (asked for
+    /// at the first hit): into `best`; returns its `t`.
+    #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
+    #[inline(always)]
+    fn nearest_fields(
+        &self,
+        walk: &Ray,
+        mut length: impl FnMut() -> f32,
+        mut hints: Option<&mut [ColumnHint]>,
+        best: &mut Option<(usize, LocalHit)>,
+        counters: &mut Counters,
+    ) -> f32 {
+        let cam = walk;
         let mut best_t = f32::INFINITY;
         for (i, obj) in self.objects.iter().enumerate() {
             let Primitive::HeightField { field_index } = *obj.placed.primitive() else {
@@ -477,25 +496,23 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 continue;
             };
             let hit = match hints.as_deref_mut().and_then(|h| h.get_mut(field_index)) {
-                Some(hint) => {
-                    field.intersect_coherent(&cam.walk, 0.0, f32::INFINITY, hint, counters)
-                }
+                Some(hint) => field.intersect_coherent(cam, 0.0, f32::INFINITY, hint, counters),
                 None => match &self.camera_walk {
-                    Some(w) if w.field_index == field_index && w.made_for(cam.walk.origin) => {
-                        field.intersect_from_origin(&w.slabs, &cam.walk, counters)
+                    Some(w) if w.field_index == field_index && w.made_for(cam.origin) => {
+                        field.intersect_from_origin(&w.slabs, cam, counters)
                     }
-                    _ => field.intersect_from_anywhere(&cam.walk, counters),
+                    _ => field.intersect_from_anywhere(cam, counters),
                 },
             };
             if let Some(mut h) = hit {
-                h.t *= cam.length;
+                h.t *= length();
                 if h.t < best_t {
                     best_t = h.t;
                     *best = Some((i, LocalHit::Field(h)));
                 }
             }
         }
-        self.nearest_analytic(&cam.ray, best_t, best, counters);
+        best_t
     }
 
     /// Replaces `best` (the height fields' hit, at `best_t`) with the
@@ -725,6 +742,60 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         counters: &mut Counters,
     ) -> Vec3 {
         self.trace_from(&cam.ray, Primary::Camera(cam, hints), stats, counters)
+    }
+
+    /// [`trace_camera_counting`](Self::trace_camera_counting) of
+    /// `camera.camera_ray(x, y)` without hints: the same colour and
+    /// counters. The ray's unit direction (a square root and a division)
+    /// is made only if the ray hits something, when the scene is height
+    /// fields seen by a perspective camera (base frames: Cortex-M4F 13.05
+    /// -> 13.00 M instructions, i486 20.17 -> 19.94 M).
+    pub fn trace_pixel_counting(
+        &self,
+        camera: &Camera,
+        x: f32,
+        y: f32,
+        stats: &mut Stats,
+        counters: &mut Counters,
+    ) -> Vec3 {
+        if self.max_trace_level == 0
+            || self.any_analytic
+            || camera.projection() != Projection::Perspective
+        {
+            return self.trace_camera_eager(camera, x, y, stats, counters);
+        }
+        let walk = camera.walk_ray(x, y);
+        // `Camera::camera_ray`'s length and unit direction, made at most once.
+        let mut length = None;
+        let mut found = None;
+        self.nearest_fields(
+            &walk,
+            || *length.get_or_insert_with(|| crate::math::length(walk.direction)),
+            None,
+            &mut found,
+            counters,
+        );
+        let Some(length) = length.filter(|_| found.is_some()) else {
+            // As `trace_from` goes for a ray that meets nothing.
+            return self.trace_missed(stats);
+        };
+        let direction = crate::math::normalize_or_zero_by(walk.direction, length);
+        let ray = Ray::new(walk.origin, direction);
+        self.trace_from(&ray, Primary::Found(&found), stats, counters)
+    }
+
+    /// [`trace_pixel_counting`](Self::trace_pixel_counting)'s other
+    /// scenes and cameras, out of line.
+    #[inline(never)]
+    fn trace_camera_eager(
+        &self,
+        camera: &Camera,
+        x: f32,
+        y: f32,
+        stats: &mut Stats,
+        counters: &mut Counters,
+    ) -> Vec3 {
+        self.trace_camera_counting(&camera.camera_ray(x, y), None, stats, counters)
     }
 
     /// [`trace_camera`](Self::trace_camera) of each lane of `cams`

@@ -819,10 +819,14 @@ impl<'s> Renderer<'s> {
             let traced = cull.row(y);
             for (x, p) in (0u32..).zip(line.iter_mut()) {
                 *p = if traced.contains(&x) {
-                    let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                    let c =
-                        self.tracer
-                            .trace_camera_counting(&ray, None, &mut stats, &mut counters);
+                    let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+                    let c = self.tracer.trace_pixel_counting(
+                        &self.camera,
+                        cx,
+                        cy,
+                        &mut stats,
+                        &mut counters,
+                    );
                     Rgb888::from_linear(c, x, y)
                 } else {
                     self.tracer.trace_missed(&mut stats);
