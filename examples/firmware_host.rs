@@ -191,7 +191,7 @@ fn render_both(
 
     // 2. The split renderer, as on the i486.
     let mut split_hash = scene::Fnv1a::default();
-    let mut split = scene::Renderer::new(kind, scene_model, fields)
+    let split = scene::Renderer::new(kind, scene_model, fields)
         .map_err(|e| format!("split renderer setup failed: {e:?}"))?;
     let split_stats = split
         .render(&mut line, |bytes| {

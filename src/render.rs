@@ -351,7 +351,6 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
     // Made where it stays (see `Tracer::empty`).
     let mut tracer = Tracer::empty(scene, fields);
     tracer.prepare(scene)?;
-    tracer.prepare_camera(&camera);
     let mut hints = hints.filter(|_| coherence_can_resume(&camera, settings));
     let n = settings.aa;
     if PACKETS && n == 1 {
@@ -385,6 +384,7 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
         // of one and `norm` 1 gives the same bits), for the pixels whose
         // rays may reach something.
         let cull = tracer.ray_cull(&camera);
+        let pixels = tracer.camera_tracer(&camera);
         // The background's pixel, converted once if the format allows
         // (Cortex-M4F base frame 13.00 -> 12.94 M instructions).
         let background = (!P::POSITIONAL)
@@ -394,7 +394,7 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
             for (x, slot) in (0u32..).zip(line.iter_mut()) {
                 *slot = if traced.contains(&x) {
                     let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
-                    let colour = tracer.trace_pixel_counting(&camera, cx, cy, stats, &mut counters);
+                    let colour = pixels.trace_pixel_counting(cx, cy, stats, &mut counters);
                     P::from_linear(colour, x, y)
                 } else {
                     let colour = tracer.trace_missed(stats);

@@ -795,13 +795,13 @@ impl<'s> Renderer<'s> {
     /// `Tracer::trace_camera` (itself bounded by hfray), as `hfray::render`
     /// traces it.
     pub fn render<E>(
-        &mut self,
+        &self,
         line: &mut [Rgb888],
         mut sink: impl FnMut(&[u8]) -> Result<(), E>,
     ) -> Result<Stats, FrameError<E>> {
         // Here, not in `new`: the i486 sets up and renders with different
         // x87 precisions, and this is the frame's `f32` arithmetic.
-        self.tracer.prepare_camera(&self.camera);
+        let pixels = self.tracer.camera_tracer(&self.camera);
         let mut stats = Stats::default();
         // The walks' work, added to `stats` once (as `hfray::render`).
         let mut counters = Counters::default();
@@ -820,13 +820,7 @@ impl<'s> Renderer<'s> {
             for (x, p) in (0u32..).zip(line.iter_mut()) {
                 *p = if traced.contains(&x) {
                     let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
-                    let c = self.tracer.trace_pixel_counting(
-                        &self.camera,
-                        cx,
-                        cy,
-                        &mut stats,
-                        &mut counters,
-                    );
+                    let c = pixels.trace_pixel_counting(cx, cy, &mut stats, &mut counters);
                     Rgb888::from_linear(c, x, y)
                 } else {
                     self.tracer.trace_missed(&mut stats);

@@ -453,9 +453,7 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
     // renderer's setup (camera, tracer) and the render; not the scene, the
     // field, its pyramid or the stack scans.
     frame_mark();
-    // (`mut`: the float frame's renderer makes its camera walks as it renders.)
-    #[cfg_attr(feature = "fixed-frame", allow(unused_mut))]
-    let mut renderer = match Renderer::new(kind, &model, &fields) {
+    let renderer = match Renderer::new(kind, &model, &fields) {
         Ok(r) => r,
         Err(_) => fail("render-setup"),
     };
