@@ -106,7 +106,7 @@ fn saturate(v: Vec3) -> Vec3 {
     Vec3::from_array(v.to_array().map(|c| {
         // One compare for the colours that need nothing (all sane ones);
         // NaN fails it.
-        if c.abs() <= COLOUR_LIMIT {
+        if within_limit(c) {
             c
         } else if c.is_nan() {
             0.0
@@ -114,6 +114,33 @@ fn saturate(v: Vec3) -> Vec3 {
             COLOUR_LIMIT.copysign(c)
         }
     }))
+}
+
+/// `c.abs() <= COLOUR_LIMIT` (NaN fails it). On the x87 an integer compare
+/// of the magnitude's bits, whose order is the values' for non-negative
+/// floats, NaN above every finite one (`tests::colour_limit_on_the_bits`):
+/// a float compare there is `fcom`, `fnstsw`, `sahf` and a jump (i486 base
+/// frame 19.86 -> 19.83 M instructions).
+#[inline(always)]
+fn within_limit(c: f32) -> bool {
+    #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+    {
+        limit_on_the_bits(c)
+    }
+    #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+    {
+        c.abs() <= COLOUR_LIMIT
+    }
+}
+
+/// [`within_limit`] on the bits.
+#[cfg_attr(
+    not(all(target_arch = "x86", not(target_feature = "sse"))),
+    allow(dead_code)
+)]
+#[inline(always)]
+fn limit_on_the_bits(c: f32) -> bool {
+    c.to_bits() & 0x7fff_ffff <= COLOUR_LIMIT.to_bits()
 }
 
 /// POV-Ray's default `adc_bailout`: rays that would contribute less are
@@ -1326,4 +1353,36 @@ fn lane_hints<'h>(
         return None;
     }
     Some(found.map(|hint| hint.expect("every lane has its hint")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{limit_on_the_bits, COLOUR_LIMIT};
+
+    #[test]
+    fn colour_limit_on_the_bits() {
+        let specials = [
+            0.0f32,
+            -0.0,
+            COLOUR_LIMIT,
+            -COLOUR_LIMIT,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ]
+        .map(f32::to_bits);
+        let near = [COLOUR_LIMIT.to_bits() - 1, COLOUR_LIMIT.to_bits() + 1];
+        let bits = (0..=u32::MAX / 251).map(|k| k * 251);
+        for b in bits
+            .chain(specials)
+            .chain(near)
+            .chain(near.map(|b| b | 1 << 31))
+        {
+            let c = f32::from_bits(b);
+            assert_eq!(limit_on_the_bits(c), c.abs() <= COLOUR_LIMIT, "{b:#x}");
+        }
+    }
 }
