@@ -430,7 +430,7 @@ impl Camera {
     /// `D + x0·R + y0·U` (perspective), or the unit view direction from the
     /// point `location + x0·R + y0·U` (orthographic).
     #[inline]
-    fn walk_ray(&self, x: f32, y: f32) -> Ray {
+    pub(crate) fn walk_ray(&self, x: f32, y: f32) -> Ray {
         let x0 = x * self.inv_width - 0.5;
         let y0 = 0.5 - y * self.inv_height;
         match self.projection {

@@ -307,7 +307,7 @@ pub use render::{
     render, render_coherent, render_depth, render_depth_coherent, RenderError, RenderSettings,
     RowOrder, Stats,
 };
-pub use shading::Tracer;
+pub use shading::{CameraTracer, Tracer};
 pub use skip::{SkipError, SkipGrid, SkipLayout};
 pub use transform::Transform;
 pub use traversal::{Counters, Traversal};

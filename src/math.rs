@@ -123,14 +123,22 @@ pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
 /// are the bit patterns `1..=0x7f7f_ffff` (zeros, infinities, NaNs and
 /// negatives lie outside), where two float compares are `fucom`,
 /// `fnstsw`, `sahf` and a jump each (`tests::positive_finite_on_the_bits`
-/// checks every 251st pattern and the specials).
+/// checks every 251st pattern and the specials). So on Arm, where each is
+/// `vcmp` and `vmrs` (soft float on the Cortex-M0): Cortex-M4F base frame
+/// 12.94 -> 12.91 M instructions.
 #[inline(always)]
 pub(crate) fn is_positive_finite(x: f32) -> bool {
-    #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+    #[cfg(any(
+        target_arch = "arm",
+        all(target_arch = "x86", not(target_feature = "sse"))
+    ))]
     {
         x.to_bits().wrapping_sub(1) < 0x7f7f_ffff
     }
-    #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+    #[cfg(not(any(
+        target_arch = "arm",
+        all(target_arch = "x86", not(target_feature = "sse"))
+    )))]
     {
         x > 0.0 && x <= f32::MAX
     }
@@ -141,8 +149,8 @@ pub(crate) fn is_positive_finite(x: f32) -> bool {
 pub(crate) fn normalize_or_zero_by(v: Vec3, length: f32) -> Vec3 {
     let rcp = 1.0 / length;
     // `rcp.is_finite() && rcp > 0.0` as glam writes it, in two float
-    // compares (`is_finite` is bit arithmetic: 15 more instructions on the
-    // Cortex-M4F); NaN fails both.
+    // compares or one integer compare (`is_finite` is bit arithmetic: 15
+    // more instructions on the Cortex-M4F); NaN fails them.
     if is_positive_finite(rcp) {
         v * rcp
     } else {

@@ -38,6 +38,11 @@ use glam::Vec3;
 
 /// A pixel the renderer can write into a line buffer.
 pub trait Pixel: Copy {
+    /// `false` if [`from_linear`](Self::from_linear) does not depend on
+    /// the position (no dither): a renderer may then convert a colour that
+    /// many pixels share, the background's, once.
+    const POSITIONAL: bool = true;
+
     /// The pixel for linear colour `c` at image column `x`, row `y`.
     fn from_linear(c: Vec3, x: u32, y: u32) -> Self;
 }
@@ -105,6 +110,8 @@ fn saturating_u8_from_bits(s: f32) -> u8 {
 }
 
 impl Pixel for Rgb888 {
+    const POSITIONAL: bool = false;
+
     #[inline]
     fn from_linear(c: Vec3, _x: u32, _y: u32) -> Self {
         Rgb888([channel_to_u8(c.x), channel_to_u8(c.y), channel_to_u8(c.z)])
@@ -116,6 +123,8 @@ impl Pixel for Rgb888 {
 pub struct LinearRgb(pub Vec3);
 
 impl Pixel for LinearRgb {
+    const POSITIONAL: bool = false;
+
     #[inline]
     fn from_linear(c: Vec3, _x: u32, _y: u32) -> Self {
         LinearRgb(c)
@@ -229,6 +238,8 @@ impl Rgb565 {
 }
 
 impl Pixel for Rgb565 {
+    const POSITIONAL: bool = false;
+
     #[inline]
     fn from_linear(c: Vec3, x: u32, y: u32) -> Self {
         Rgb565::from_rgb888(Rgb888::from_linear(c, x, y))

@@ -79,6 +79,13 @@ pub trait Real:
     }
     /// `true` unless NaN or infinite.
     fn is_finite(self) -> bool;
+    /// `self > 0` for a value that is neither zero nor NaN. Floats read
+    /// their sign bit: no float compare (`vcmp` + `vmrs` on the Cortex-M4F,
+    /// `fcom` + `fnstsw` on the x87).
+    #[inline]
+    fn positive_nonzero(self) -> bool {
+        self > Self::ZERO
+    }
     /// `units / 65536`: a height in the units the field stores. Exact for
     /// every implementation (heights are multiples of 2^-16 below 1).
     fn from_height_units(units: u32) -> Self;
@@ -281,6 +288,10 @@ impl Real for f32 {
         }
     }
     #[inline]
+    fn positive_nonzero(self) -> bool {
+        !self.is_sign_negative()
+    }
+    #[inline]
     fn is_finite(self) -> bool {
         f32::is_finite(self)
     }
@@ -372,6 +383,10 @@ impl Real for f64 {
         } else {
             i
         }
+    }
+    #[inline]
+    fn positive_nonzero(self) -> bool {
+        !self.is_sign_negative()
     }
     #[inline]
     fn is_finite(self) -> bool {

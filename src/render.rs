@@ -384,16 +384,25 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
         // of one and `norm` 1 gives the same bits), for the pixels whose
         // rays may reach something.
         let cull = tracer.ray_cull(&camera);
+        let pixels = tracer.camera_tracer(&camera);
+        // The background's pixel, converted once if the format allows
+        // (Cortex-M4F base frame 13.00 -> 12.94 M instructions).
+        let background = (!P::POSITIONAL)
+            .then(|| P::from_linear(tracer.trace_missed(&mut Stats::default()), 0, 0));
         let mut stats = drive_rows(settings, line, sink, |y, line, stats| {
             let traced = cull.row(y);
             for (x, slot) in (0u32..).zip(line.iter_mut()) {
-                let colour = if traced.contains(&x) {
-                    let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                    tracer.trace_camera_counting(&cam, None, stats, &mut counters)
+                *slot = if traced.contains(&x) {
+                    let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+                    let colour = pixels.trace_pixel_counting(cx, cy, stats, &mut counters);
+                    P::from_linear(colour, x, y)
                 } else {
-                    tracer.trace_missed(stats)
+                    let colour = tracer.trace_missed(stats);
+                    match background {
+                        Some(p) => p,
+                        None => P::from_linear(colour, x, y),
+                    }
                 };
-                *slot = P::from_linear(colour, x, y);
             }
         });
         stats.add_work(&counters);

@@ -661,7 +661,10 @@ pub enum Frame {
 /// frame size), handing the pixels' RGB bytes to `sink` in pieces of up to
 /// [`PIECE_PIXELS`] pixels, row 0 first, left to right. Stops at the first
 /// sink error. The firmware passes a constant `frame`, so only one renderer
-/// is linked.
+/// is linked (inlined, with [`draw_rows`], so that the constant reaches
+/// [`SceneDraw::draw`]: out of line, both renderers were linked, and the
+/// Cortex-M4F image outgrew its flash).
+#[inline(always)]
 pub fn render<E>(
     frame: Frame,
     kind: FrameKind,
@@ -731,6 +734,7 @@ impl<const LIGHTS: usize> Draw for hfray::fixed_frame::FixedTracer<'_, LIGHTS> {
 /// frame's width), handing each finished row to `sink` as the bytes it is
 /// sent as, [`PIECE_PIXELS`] pixels at a time; stops at the first sink
 /// error.
+#[inline(always)]
 fn draw_rows<E>(
     kind: FrameKind,
     line: &mut [Rgb888],
@@ -795,6 +799,9 @@ impl<'s> Renderer<'s> {
         line: &mut [Rgb888],
         mut sink: impl FnMut(&[u8]) -> Result<(), E>,
     ) -> Result<Stats, FrameError<E>> {
+        // Here, not in `new`: the i486 sets up and renders with different
+        // x87 precisions, and this is the frame's `f32` arithmetic.
+        let pixels = self.tracer.camera_tracer(&self.camera);
         let mut stats = Stats::default();
         // The walks' work, added to `stats` once (as `hfray::render`).
         let mut counters = Counters::default();
@@ -812,10 +819,8 @@ impl<'s> Renderer<'s> {
             let traced = cull.row(y);
             for (x, p) in (0u32..).zip(line.iter_mut()) {
                 *p = if traced.contains(&x) {
-                    let ray = self.camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
-                    let c =
-                        self.tracer
-                            .trace_camera_counting(&ray, None, &mut stats, &mut counters);
+                    let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+                    let c = pixels.trace_pixel_counting(cx, cy, &mut stats, &mut counters);
                     Rgb888::from_linear(c, x, y)
                 } else {
                     self.tracer.trace_missed(&mut stats);
