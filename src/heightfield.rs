@@ -25,7 +25,8 @@ use crate::real::{Numeric, Real};
 use crate::skip::{SampleGrid, SkipError, SkipGrid};
 use crate::transform::{GridTransform, Transform};
 use crate::traversal::{
-    self, Counters, FootprintStart, GridHit, GridRay, OriginSlabs, Traversal, WalkGrid,
+    self, cell_index, corners_raw, Counters, FootprintStart, GridHit, GridRay, OriginSlabs, Sample,
+    Traversal, WalkGrid,
 };
 
 /// The largest width or depth accepted: indices stay well inside `i32`,
@@ -678,22 +679,10 @@ impl<'a> HeightField<'a> {
     /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
     #[inline(always)]
     pub(crate) fn cell_raw(&self, x: u32, z: u32) -> [u32; 4] {
-        let w = self.width as usize;
-        // Grid row z is image row depth - 1 - z; grid row z + 1 the one above.
-        let lower = (self.depth - 1 - z) as usize * w + x as usize;
-        let upper = lower.wrapping_sub(w);
-        // `upper < lower` (z < depth − 1), subtracted without an overflow
-        // check (a wrapped `upper` fails its bounds check): the check of
-        // `lower + 1` covers `lower`, three checks for four samples.
+        let at = cell_index(self.width, self.depth, x, z);
         match self.samples {
-            Samples::U8(s) => {
-                let (b, c) = (s[lower + 1], s[upper]);
-                [s[lower], b, c, s[upper + 1]].map(|v| v as u32)
-            }
-            Samples::U16(s) => {
-                let (b, c) = (s[lower + 1], s[upper]);
-                [s[lower], b, c, s[upper + 1]].map(|v| v as u32)
-            }
+            Samples::U8(s) => corners_raw(s, at),
+            Samples::U16(s) => corners_raw(s, at),
         }
     }
 
@@ -1866,6 +1855,13 @@ fn surface_height(c: &Corners<f32>, tri: Triangle, fu: f32, fv: f32) -> f32 {
     }
 }
 
+/// [`WalkGrid::samples_as`] given samples of the other type: a walk's bug.
+#[cold]
+#[inline(never)]
+fn wrong_sample_type() -> ! {
+    panic!("samples of another type")
+}
+
 impl SampleGrid for HeightField<'_> {
     #[inline(always)]
     fn width(&self) -> u32 {
@@ -1892,6 +1888,15 @@ impl SampleGrid for HeightField<'_> {
 }
 
 impl WalkGrid for HeightField<'_> {
+    #[inline(always)]
+    fn samples_as<T: Sample>(&self) -> &[T] {
+        let typed = match self.samples {
+            Samples::U8(s) => T::from_u8(s),
+            Samples::U16(s) => T::from_u16(s),
+        };
+        typed.unwrap_or_else(|| wrong_sample_type())
+    }
+
     #[inline(always)]
     fn cell_raw(&self, x: u32, z: u32) -> [u32; 4] {
         HeightField::cell_raw(self, x, z)

@@ -499,8 +499,16 @@ impl<'a> SkipGrid<'a> {
     /// Panics if out of range.
     #[inline(always)]
     pub(crate) fn walk_bounds(&self, level: u32, bi: u32, bj: u32) -> (u32, u32) {
+        self.walk_bounds_of(self.sample_bytes as u32, level, bi, bj)
+    }
+
+    /// [`walk_bounds`](Self::walk_bounds) of a grid of `sb`-byte bounds
+    /// (its [`sample_bytes`](Self::sample_bytes)), a constant in the walk's
+    /// builds for each sample type (`crate::traversal::Typed`).
+    #[inline(always)]
+    pub(crate) fn walk_bounds_of(&self, sb: u32, level: u32, bi: u32, bj: u32) -> (u32, u32) {
+        debug_assert_eq!(sb, self.sample_bytes as u32);
         let l = (level.wrapping_sub(1) % MAX_LEVELS as u32) as usize;
-        let sb = self.sample_bytes as u32;
         // In `u32` (the grid's size is, see `plan`), so that `index + 3`
         // cannot wrap and one check covers the entry.
         let index = ((bj.wrapping_mul(self.blocks_u[l]).wrapping_add(bi)).wrapping_mul(2 * sb))

@@ -246,9 +246,19 @@ pub enum Traversal {
 /// [`HeightField`](crate::HeightField) is the implementation; the walk
 /// needs no more of a field than this.
 pub(crate) trait WalkGrid: SampleGrid {
+    /// The samples, as `T`s; panics if they are of the other type.
+    fn samples_as<T: Sample>(&self) -> &[T];
     /// Raw samples of cell `(x, z)`'s corners:
     /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
     fn cell_raw(&self, x: u32, z: u32) -> [u32; 4];
+    /// Called on entering a walk function, before its loops.
+    #[inline(always)]
+    fn enter(&self) {}
+    /// `skip`'s [`SkipGrid::walk_bounds`] (`skip` is this field's).
+    #[inline(always)]
+    fn block_bounds(&self, skip: &SkipGrid<'_>, level: u32, bi: u32, bj: u32) -> (u32, u32) {
+        skip.walk_bounds(level, bi, bj)
+    }
     /// Height units (1/65536) per raw sample step.
     fn units_per_sample(&self) -> u32;
     /// Lowest and highest sample height, in height units.
@@ -262,6 +272,198 @@ pub(crate) trait WalkGrid: SampleGrid {
     /// The skip grid, if one is attached.
     fn skip(&self) -> Option<&SkipGrid<'_>>;
 }
+
+/// A sample type of a field: `u8` or `u16`.
+pub(crate) trait Sample: Copy + Into<u32> {
+    /// Bytes per sample, and per bound of the field's skip grid.
+    const BYTES: u32;
+    /// `s` if `Self` is `u8`.
+    fn from_u8(s: &[u8]) -> Option<&[Self]>;
+    /// `s` if `Self` is `u16`.
+    fn from_u16(s: &[u16]) -> Option<&[Self]>;
+}
+
+impl Sample for u8 {
+    const BYTES: u32 = 1;
+    #[inline(always)]
+    fn from_u8(s: &[u8]) -> Option<&[u8]> {
+        Some(s)
+    }
+    #[inline(always)]
+    fn from_u16(_: &[u16]) -> Option<&[u8]> {
+        None
+    }
+}
+
+impl Sample for u16 {
+    const BYTES: u32 = 2;
+    #[inline(always)]
+    fn from_u8(_: &[u8]) -> Option<&[u16]> {
+        None
+    }
+    #[inline(always)]
+    fn from_u16(s: &[u16]) -> Option<&[u16]> {
+        Some(s)
+    }
+}
+
+/// Where cell `(x, z)` of a `width × depth` field is in its samples: the
+/// indices of samples `(x, z)` and `(x, z + 1)`, for [`corners_raw`].
+#[inline(always)]
+pub(crate) fn cell_index(width: u32, depth: u32, x: u32, z: u32) -> (usize, usize) {
+    let w = width as usize;
+    // Grid row z is image row depth - 1 - z; grid row z + 1 the one above.
+    let lower = (depth - 1 - z) as usize * w + x as usize;
+    // `upper < lower` (z < depth − 1), subtracted without an overflow
+    // check (a wrapped `upper` fails its bounds check in `corners_raw`).
+    (lower, lower.wrapping_sub(w))
+}
+
+/// The raw samples of the cell at `(lower, upper)` ([`cell_index`]), in
+/// [`WalkGrid::cell_raw`]'s order.
+#[inline(always)]
+pub(crate) fn corners_raw<T: Sample>(s: &[T], (lower, upper): (usize, usize)) -> [u32; 4] {
+    // The check of `lower + 1` covers `lower`: three checks for four samples.
+    let (b, c) = (s[lower + 1], s[upper]);
+    [s[lower], b, c, s[upper + 1]].map(Into::into)
+}
+
+/// A field whose samples are known to be of type `T` (`u8` or `u16`): the
+/// walk's build for it reads cells and skip bounds without testing the
+/// sample type per cell (`HeightField::cell_raw`) and per block
+/// (`SkipGrid::walk_bounds`); the rest is the field's. See
+/// [`by_sample_type`].
+pub(crate) struct Typed<'f, F, T> {
+    field: &'f F,
+    sample: core::marker::PhantomData<T>,
+}
+
+impl<F: WalkGrid, T: Sample> SampleGrid for Typed<'_, F, T> {
+    #[inline(always)]
+    fn width(&self) -> u32 {
+        self.field.width()
+    }
+
+    #[inline(always)]
+    fn depth(&self) -> u32 {
+        self.field.depth()
+    }
+
+    #[inline(always)]
+    fn sample_bytes(&self) -> u8 {
+        T::BYTES as u8
+    }
+
+    #[inline(always)]
+    fn raw_sample(&self, x: u32, z: u32) -> u32 {
+        self.field.raw_sample(x, z)
+    }
+}
+
+impl<F: WalkGrid, T: Sample> WalkGrid for Typed<'_, F, T> {
+    #[inline(always)]
+    fn samples_as<U: Sample>(&self) -> &[U] {
+        self.field.samples_as()
+    }
+
+    #[inline(always)]
+    fn cell_raw(&self, x: u32, z: u32) -> [u32; 4] {
+        let at = cell_index(self.width(), self.depth(), x, z);
+        corners_raw(self.field.samples_as::<T>(), at)
+    }
+
+    #[inline(always)]
+    fn block_bounds(&self, skip: &SkipGrid<'_>, level: u32, bi: u32, bj: u32) -> (u32, u32) {
+        skip.walk_bounds_of(T::BYTES, level, bi, bj)
+    }
+
+    /// Tests the sample type once, so that `cell_raw` in the loops that
+    /// follow need not when it was chosen outside the function (the field
+    /// is not written while they run): i486 base frame 19.81 -> 19.71 M.
+    #[inline(always)]
+    fn enter(&self) {
+        self.field.samples_as::<T>();
+    }
+
+    #[inline(always)]
+    fn units_per_sample(&self) -> u32 {
+        self.field.units_per_sample()
+    }
+
+    #[inline(always)]
+    fn units_range(&self) -> (u32, u32) {
+        self.field.units_range()
+    }
+
+    #[inline(always)]
+    fn water_units(&self) -> u32 {
+        self.field.water_units()
+    }
+
+    #[inline(always)]
+    fn water_level(&self) -> f32 {
+        self.field.water_level()
+    }
+
+    #[inline(always)]
+    fn traversal(&self) -> Traversal {
+        self.field.traversal()
+    }
+
+    #[inline(always)]
+    fn skip(&self) -> Option<&SkipGrid<'_>> {
+        self.field.skip()
+    }
+}
+
+/// `$body` with `$field` rebound to its view by sample type ([`Typed`]),
+/// a build for each, if `$here`; else, and on bare metal, one build with
+/// `$field` as is (the walk's builds there already take ~85 KB of the
+/// Cortex-M4F's flash, with ~66 KB free).
+///
+/// Measured (callgrind, per primary ray and per pixel of the full render;
+/// outputs and counters identical): bench512 1,178 -> 1,164 and
+/// 2,648 -> 2,614, rmnp_gradient 1,040 -> 1,029 and 2,648 -> 2,614,
+/// level_rmnp 1,142 -> 1,134 and 2,341 -> 2,318; with 16-bit samples,
+/// bench512 1,184 -> 1,174 and 2,653 -> 2,615, rmnp_gradient
+/// 1,045 -> 1,030 and 2,658 -> 2,623. i486 base frame (`run-qemu.sh
+/// --base`) 20.14 -> 19.71 M instructions, 486SX 44.07 -> 43.93 M
+/// (`.text` 388 -> 565 KB and 144 -> 191 KB).
+macro_rules! by_sample_type {
+    ($here:expr, $field:ident => $body:expr) => {
+        if cfg!(target_os = "none") || !$here {
+            $body
+        } else {
+            match $field.sample_bytes() {
+                1 => {
+                    let $field = &Typed::<_, u8> {
+                        field: $field,
+                        sample: core::marker::PhantomData,
+                    };
+                    $body
+                }
+                _ => {
+                    let $field = &Typed::<_, u16> {
+                        field: $field,
+                        sample: core::marker::PhantomData,
+                    };
+                    $body
+                }
+            }
+        }
+    };
+}
+
+/// Where the build for the sample type is chosen: inside the walk
+/// functions where `walk_from` is inlined into its callers (64-bit
+/// desktop targets), else at their calls in `walk_from`, each build then
+/// a function of its own. Inside: one choice, not one in each caller
+/// (rmnp_gradient 14 instructions a pixel of the full render fewer than at
+/// the calls, bench512 the same). At the calls: the builds do not share a
+/// function's registers and inlining (inside, the i486 base frame took
+/// 20.18 M instructions, more than one build's 20.14 M, and the 486SX's
+/// 44.73 M, with `Cell::point_at`'s closures no longer inlined).
+const TYPED_INSIDE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
 
 /// The walks get a second build for rays moving along both axes (no
 /// parallel-axis tests in their loops), unless the `compact` feature asks
@@ -537,15 +739,18 @@ impl<S: Real> Walk<S> {
         // The walk moves one cell per step along u or v (both at a corner),
         // never back: it cannot take more steps than this.
         let max_steps = self.cells_u + self.cells_v + 1;
-        for _ in 0..max_steps {
-            counters.cells += 1;
-            match self.visit::<MOVING, F>(field, &mut c, stop, counters) {
-                Visit::Hit(h) => return Some(h),
-                Visit::Miss => return None,
-                Visit::Next => {}
+        field.enter();
+        by_sample_type!(TYPED_INSIDE, field => {
+            for _ in 0..max_steps {
+                counters.cells += 1;
+                match self.visit::<MOVING, _>(field, &mut c, stop, counters) {
+                    Visit::Hit(h) => return Some(h),
+                    Visit::Miss => return None,
+                    Visit::Next => {}
+                }
             }
-        }
-        None
+            None
+        })
     }
 
     /// The walk with a skip grid: before each cell, the blocks containing
@@ -702,24 +907,28 @@ impl<S: Real> Walk<S> {
         // (bench512: 49 instructions a primary ray fewer, 64 a pixel of the
         // full render; the eight builds of 14–18 KB each added no
         // instruction-cache misses of note, cachegrind: 36 K in 727 M).
-        if SU == 0 && SV == 0 {
-            return self.walk_hdda_in::<MOVING, LEVEL1, F>(field, skip, top, start, stop, counters);
-        }
-        let signed = |a: Axis<S>, step: i32| match step {
-            0 => a,
-            _ => Axis {
-                step,
-                off: (step > 0) as i32,
-                inv: a.inv,
-            },
-        };
-        let walk = Walk {
-            au: signed(self.au, SU),
-            av: signed(self.av, SV),
-            rising: RISING,
-            ..*self
-        };
-        walk.walk_hdda_in::<MOVING, LEVEL1, F>(field, skip, top, start, stop, counters)
+        field.enter();
+        by_sample_type!(TYPED_INSIDE, field => {
+            if SU == 0 && SV == 0 {
+                return self
+                .walk_hdda_in::<MOVING, LEVEL1, _>(field, skip, top, start, stop, counters);
+            }
+            let signed = |a: Axis<S>, step: i32| match step {
+                0 => a,
+                _ => Axis {
+                    step,
+                    off: (step > 0) as i32,
+                    inv: a.inv,
+                },
+            };
+            let walk = Walk {
+                au: signed(self.au, SU),
+                av: signed(self.av, SV),
+                rising: RISING,
+                ..*self
+            };
+            walk.walk_hdda_in::<MOVING, LEVEL1, _>(field, skip, top, start, stop, counters)
+        })
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -838,7 +1047,7 @@ impl<S: Real> Walk<S> {
                 // the ordered pair of the cell cull.
                 let (y_low, y_high) = self.y_range(y_a, y_b);
                 let (bi, bj) = (c.i >> shift, c.j >> shift);
-                let (lo, hi) = skip.walk_bounds(block_level, bi as u32, bj as u32);
+                let (lo, hi) = field.block_bounds(skip, block_level, bi as u32, bj as u32);
                 let culled = y_low > S::from_raw_height(hi, mult)
                     || y_high < S::from_raw_height(lo, mult)
                     || (self.wet && (hi * mult < self.water_units || y_high < self.water));
@@ -1715,6 +1924,9 @@ fn walk_over<S: Real, F: WalkGrid>(
 /// most `top` descents after each. If not (`f64` walks of fields of
 /// hundreds of millions of cells per side) the ray takes the block-jumping
 /// walk, as exact.
+// (`x + 1 <= MAX`, not clippy's `x < MAX`: the same for these counts, not
+// to LLVM, whose i486 base frame then took 14 K instructions more.)
+#[allow(clippy::int_plus_one)]
 fn hdda_counts_fit<S>(walk: &Walk<S>, top: u8) -> bool {
     let cells = walk.cells_u as u64 + walk.cells_v as u64 + 1;
     cells * (top as u64 + 2) + 1 <= u32::MAX as u64
@@ -2034,22 +2246,31 @@ impl<S: Real> Walk<S> {
             let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
             if u_strict && v_strict && hdda_counts_fit(self, top) {
                 return if TWO_BUILDS && au.step != 0 && av.step != 0 {
-                    self.walk_hdda_moving(field, skip, top, start, stop, counters)
+                    by_sample_type!(!TYPED_INSIDE, field => {
+                        self.walk_hdda_moving(field, skip, top, start, stop, counters)
+                    })
                 } else {
-                    self.walk_hdda::<false, false, 0, 0, false, F>(
-                        field, skip, top, start, stop, counters,
-                    )
+                    by_sample_type!(!TYPED_INSIDE, field => {
+                        self.walk_hdda::<false, false, 0, 0, false, _>(
+                            field, skip, top, start, stop, counters,
+                        )
+                    })
                 };
             }
             self.v_strict = v_strict;
             if u_strict || v_strict {
+                // (Rare: one build, for either sample type.)
                 return self.walk_skip(field, skip, top, start, stop, counters);
             }
         }
         if TWO_BUILDS && au.step != 0 && av.step != 0 {
-            self.walk_flat::<true, F>(field, start, stop, counters)
+            by_sample_type!(!TYPED_INSIDE, field => {
+                self.walk_flat::<true, _>(field, start, stop, counters)
+            })
         } else {
-            self.walk_flat::<false, F>(field, start, stop, counters)
+            by_sample_type!(!TYPED_INSIDE, field => {
+                self.walk_flat::<false, _>(field, start, stop, counters)
+            })
         }
     }
 }
