@@ -116,6 +116,13 @@ impl core::ops::AddAssign for Counters {
     }
 }
 
+/// Whether this target runs in order, so instruction count is what to
+/// save: bare-metal Cortex-M and the x87 486.
+const IN_ORDER: bool = cfg!(any(
+    target_os = "none",
+    all(target_arch = "x86", not(target_feature = "sse"))
+));
+
 /// Axis step and the reciprocal of its direction, or "parallel".
 #[derive(Clone, Copy)]
 pub(crate) struct Axis<S> {
@@ -132,12 +139,15 @@ impl<S: Real> Axis<S> {
             off: 0,
             inv: S::ZERO,
         };
-        // Floats need no zero test: `1/±0` is infinite, which the
-        // finiteness test rejects (fixed point saturates: it tests). Past
-        // the tests `d` is neither zero nor NaN, so its sign bit says
-        // `d > 0`, without a float compare. (Base frames: Cortex-M4F
-        // 13.10 -> 13.08 M instructions, i486 20.39 -> 20.26 M.)
-        if S::ALL_FINITE && d == S::ZERO {
+        // In-order chips need no zero test for floats: `1/±0` is infinite,
+        // which the finiteness test rejects (fixed point saturates: it
+        // tests). Past the tests `d` is neither zero nor NaN, so its sign
+        // bit says `d > 0`, without a float compare. (Base frames:
+        // Cortex-M4F 13.10 -> 13.08 M instructions, i486 20.39 -> 20.26 M.)
+        // Out-of-order desktop cores keep the test: without it the
+        // finiteness test's branch waits on the division, and rays one by
+        // one ran 7% slower (bench (f): 6.34 -> 5.89 M rays/s).
+        if (S::ALL_FINITE || !IN_ORDER) && d == S::ZERO {
             return parallel;
         }
         let inv = S::ONE / d;
