@@ -333,7 +333,9 @@ pub(crate) fn cell_index(width: u32, depth: u32, x: u32, z: u32) -> (usize, usiz
 /// [`WalkGrid::cell_raw`]'s order.
 #[inline(always)]
 pub(crate) fn corners_raw<T: Sample>(s: &[T], (lower, upper): (usize, usize)) -> [u32; 4] {
-    // The check of `lower + 1` covers `lower`: three checks for four samples.
+    // On 64-bit targets the check of `lower + 1` covers `lower` (it cannot
+    // wrap): three checks for four samples. A 32-bit `usize` can wrap, so
+    // the Cortex-M builds keep all four (seen in their disassembly).
     let (b, c) = (s[lower + 1], s[upper]);
     [s[lower], b, c, s[upper + 1]].map(Into::into)
 }
