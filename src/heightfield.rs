@@ -1323,9 +1323,9 @@ impl<'a> HeightField<'a> {
         // `p.is_finite()` in float compares (NaN fails them); on the x87,
         // where each is `fcom`, `fnstsw`, `sahf` and a jump, on the bits
         // (i486 base frame 19.83 -> 19.79 M instructions).
-        #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+        #[cfg(not(x87))]
         let finite = |c: f32| c.abs() <= f32::MAX;
-        #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+        #[cfg(x87)]
         let finite = |c: f32| c.to_bits() & 0x7fff_ffff < 0x7f80_0000;
         if finite(p.x) && finite(p.y) && finite(p.z) {
             return p;

@@ -74,7 +74,7 @@ fn hardware_sqrtf(x: f32) -> f32 {
 // then to 24 bits, is innocuous for a square root: 53 ≥ 2·24 + 2). Covered
 // by `tests::sqrtf_matches_libm_bit_for_bit` where it runs and by the i486
 // program's `sqrt-check` under `qemu-i386 -cpu 486` (`sqrt_mismatches=0`).
-#[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+#[cfg(x87)]
 #[allow(unsafe_code)]
 #[inline(always)]
 fn hardware_sqrtf(x: f32) -> f32 {
@@ -96,10 +96,7 @@ fn hardware_sqrtf(x: f32) -> f32 {
     v
 }
 
-#[cfg(not(any(
-    all(target_arch = "arm", target_abi = "eabihf"),
-    all(target_arch = "x86", not(target_feature = "sse"))
-)))]
+#[cfg(not(any(all(target_arch = "arm", target_abi = "eabihf"), x87)))]
 #[inline(always)]
 fn hardware_sqrtf(x: f32) -> f32 {
     libm::sqrtf(x)
@@ -128,17 +125,11 @@ pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
 /// 12.94 -> 12.91 M instructions.
 #[inline(always)]
 pub(crate) fn is_positive_finite(x: f32) -> bool {
-    #[cfg(any(
-        target_arch = "arm",
-        all(target_arch = "x86", not(target_feature = "sse"))
-    ))]
+    #[cfg(any(target_arch = "arm", x87))]
     {
         x.to_bits().wrapping_sub(1) < 0x7f7f_ffff
     }
-    #[cfg(not(any(
-        target_arch = "arm",
-        all(target_arch = "x86", not(target_feature = "sse"))
-    )))]
+    #[cfg(not(any(target_arch = "arm", x87)))]
     {
         x > 0.0 && x <= f32::MAX
     }

@@ -63,7 +63,7 @@ pub fn channel_to_u8(v: f32) -> u8 {
     // saturates and takes NaN to 0, as the FPU's own conversion does (one
     // `vcvt` on the Cortex-M4F, no compare or branch); the integer clamp is
     // one `usat`.
-    #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+    #[cfg(not(x87))]
     {
         (s as i32).clamp(0, 255) as u8
     }
@@ -71,7 +71,7 @@ pub fn channel_to_u8(v: f32) -> u8 {
     // and each float compare is four instructions (`fucom`, `fnstsw`,
     // `sahf`, a jump): there the clamps and the floor are integer work on
     // the bits.
-    #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+    #[cfg(x87)]
     {
         saturating_u8_from_bits(s)
     }
@@ -83,10 +83,7 @@ pub fn channel_to_u8(v: f32) -> u8 {
 /// rounding through `s + 2^23`), `base` frame 27.30 → 27.03 M. The bits
 /// go through memory as `f32`, so the x87's register precision does not
 /// matter.
-#[cfg_attr(
-    not(all(target_arch = "x86", not(target_feature = "sse"))),
-    allow(dead_code)
-)]
+#[cfg_attr(not(x87), allow(dead_code))]
 #[inline(always)]
 fn saturating_u8_from_bits(s: f32) -> u8 {
     const ONE: i32 = 0x3f80_0000; // 1.0

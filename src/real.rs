@@ -190,10 +190,7 @@ pub trait Real:
 /// measured on the i486: `thesis` frame 369.3 → 365.4 M, `base` 26.05 →
 /// 25.83 M). The bits go through memory as `f32`, so the x87's register
 /// precision does not matter.
-#[cfg_attr(
-    not(all(target_arch = "x86", not(target_feature = "sse"))),
-    allow(dead_code)
-)]
+#[cfg_attr(not(x87), allow(dead_code))]
 #[inline(always)]
 fn f32_to_i32_from_bits<const FLOOR: bool>(s: f32) -> i32 {
     let bits = s.to_bits();
@@ -259,11 +256,11 @@ impl Real for f32 {
     fn floor_nonneg_i32(self) -> i32 {
         // Truncation is the floor for `self ≥ 0`; `as` saturates, NaN
         // gives 0, as in `floor_i32`.
-        #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+        #[cfg(not(x87))]
         {
             self as i32
         }
-        #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+        #[cfg(x87)]
         {
             f32_to_i32_from_bits::<false>(self)
         }
@@ -273,7 +270,7 @@ impl Real for f32 {
         // `floorf(self) as i32` without the libm call: truncate, then step
         // down if that rounded up. Same result for every input (the cast
         // saturates, NaN gives 0).
-        #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+        #[cfg(not(x87))]
         {
             let i = self as i32;
             if (i as f32) > self {
@@ -282,7 +279,7 @@ impl Real for f32 {
                 i
             }
         }
-        #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+        #[cfg(x87)]
         {
             f32_to_i32_from_bits::<true>(self)
         }

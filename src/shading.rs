@@ -123,21 +123,18 @@ fn saturate(v: Vec3) -> Vec3 {
 /// frame 19.86 -> 19.83 M instructions).
 #[inline(always)]
 fn within_limit(c: f32) -> bool {
-    #[cfg(all(target_arch = "x86", not(target_feature = "sse")))]
+    #[cfg(x87)]
     {
         limit_on_the_bits(c)
     }
-    #[cfg(not(all(target_arch = "x86", not(target_feature = "sse"))))]
+    #[cfg(not(x87))]
     {
         c.abs() <= COLOUR_LIMIT
     }
 }
 
 /// [`within_limit`] on the bits.
-#[cfg_attr(
-    not(all(target_arch = "x86", not(target_feature = "sse"))),
-    allow(dead_code)
-)]
+#[cfg_attr(not(x87), allow(dead_code))]
 #[inline(always)]
 fn limit_on_the_bits(c: f32) -> bool {
     c.to_bits() & 0x7fff_ffff <= COLOUR_LIMIT.to_bits()

@@ -118,10 +118,7 @@ impl core::ops::AddAssign for Counters {
 
 /// Whether this target runs in order, so instruction count is what to
 /// save: bare-metal Cortex-M and the x87 486.
-const IN_ORDER: bool = cfg!(any(
-    target_os = "none",
-    all(target_arch = "x86", not(target_feature = "sse"))
-));
+const IN_ORDER: bool = cfg!(any(target_os = "none", x87));
 
 /// Axis step and the reciprocal of its direction, or "parallel".
 #[derive(Clone, Copy)]
