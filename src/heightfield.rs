@@ -226,6 +226,20 @@ pub struct HeightField<'a> {
     numeric: Numeric,
 }
 
+/// A box in a field's grid space, as its low and high corners.
+pub(crate) type GridBox = ([f32; 3], [f32; 3]);
+
+/// A field's blocks for [`RayCull::with_skyline`](crate::camera::RayCull::with_skyline)
+/// ([`HeightField::cull_blocks`]).
+pub(crate) struct CullBlocks<I> {
+    /// The grid-to-world map.
+    pub to_world: DAffine3,
+    /// The largest magnitude of each grid coordinate of a box's corner.
+    pub extent: DVec3,
+    /// The blocks' boxes.
+    pub boxes: I,
+}
+
 /// Coherence state for one image column of primary rays
 /// ([`HeightField::intersect_coherent`]): where the previous ray of the
 /// column stopped, and what is needed to tell whether the next may start
@@ -723,26 +737,8 @@ impl<'a> HeightField<'a> {
     /// few 2^-24 of those). `None` unless the field walks in `f32`. For
     /// [`crate::camera::RayCull`].
     pub(crate) fn cull_corners(&self, from: DVec3) -> Option<[DVec3; 8]> {
-        if self.numeric != Numeric::F32 {
-            return None;
-        }
-        let map = &self.world_to_grid;
-        let origin = map.exact.transform_point3(from);
-        // `M·(p − c) + g`, term by term in magnitude.
-        let offset = (from - map.anchor.as_dvec3()).abs();
-        let m =
-            (map.exact.matrix3.abs() * offset + map.anchor_grid.as_dvec3().abs() + origin.abs())
-                / 4096.0;
-        let widened = 1.0 / 64.0 + origin.y.abs() * 32.0 * f64::from(f32::EPSILON);
-        let (lo, hi) = (
-            DVec3::new(0.0, self.min_units as f64 / 65536.0 - widened, 0.0) - m,
-            DVec3::new(
-                (self.width - 1) as f64,
-                self.max_units as f64 / 65536.0 + widened,
-                (self.depth - 1) as f64,
-            ) + m,
-        );
-        let to_world = map.exact.inverse();
+        let (lo, hi) = self.cull_box(from)?;
+        let to_world = self.world_to_grid.exact.inverse();
         let corners: [DVec3; 8] = core::array::from_fn(|k| {
             let pick = |bit: usize, l: f64, h: f64| if k >> bit & 1 == 0 { l } else { h };
             to_world.transform_point3(DVec3::new(
@@ -752,6 +748,103 @@ impl<'a> HeightField<'a> {
             ))
         });
         corners.iter().all(|c| c.is_finite()).then_some(corners)
+    }
+
+    /// [`cull_corners`](Self::cull_corners)' box in grid space, low and
+    /// high corner.
+    fn cull_box(&self, from: DVec3) -> Option<(DVec3, DVec3)> {
+        if self.numeric != Numeric::F32 {
+            return None;
+        }
+        let (m, widened) = self.cull_widening(from);
+        Some((
+            DVec3::new(0.0, self.min_units as f64 / 65536.0 - widened, 0.0) - m,
+            DVec3::new(
+                (self.width - 1) as f64,
+                self.max_units as f64 / 65536.0 + widened,
+                (self.depth - 1) as f64,
+            ) + m,
+        ))
+    }
+
+    /// How [`cull_corners`](Self::cull_corners) widens a grid box for a
+    /// camera at `from`: each axis by `m`, the height by `widened` more.
+    fn cull_widening(&self, from: DVec3) -> (DVec3, f64) {
+        let map = &self.world_to_grid;
+        let origin = map.exact.transform_point3(from);
+        // `M·(p − c) + g`, term by term in magnitude.
+        let offset = (from - map.anchor.as_dvec3()).abs();
+        let m =
+            (map.exact.matrix3.abs() * offset + map.anchor_grid.as_dvec3().abs() + origin.abs())
+                / 4096.0;
+        (
+            m,
+            1.0 / 64.0 + origin.y.abs() * 32.0 * f64::from(f32::EPSILON),
+        )
+    }
+
+    /// The blocks of the skip pyramid's finest level with at most `most`
+    /// blocks, each as [`cull_corners`](Self::cull_corners) makes the
+    /// field's box (its cells, from its lowest to its highest sample,
+    /// widened alike; rounded outwards to `f32`), for
+    /// [`RayCull::with_skyline`](crate::camera::RayCull::with_skyline).
+    /// `None` without a pyramid, or unless the field walks in `f32`.
+    pub(crate) fn cull_blocks(
+        &self,
+        from: DVec3,
+        most: u64,
+    ) -> Option<CullBlocks<impl Iterator<Item = GridBox> + '_>> {
+        let skip = self.skip.as_ref()?;
+        let (lo, hi) = self.cull_box(from)?;
+        let (m, widened) = self.cull_widening(from);
+        let (cells_u, cells_v) = (self.width - 1, self.depth - 1);
+        let log2 = u32::from(skip.block_log2());
+        let blocks = |level: u32| {
+            let side = 1u64 << (log2 * level).min(40);
+            u64::from(cells_u).div_ceil(side) * u64::from(cells_v).div_ceil(side)
+        };
+        let level = (1..=u32::from(skip.levels())).find(|&l| blocks(l) <= most)?;
+        let side = 1u32 << (log2 * level);
+        let (across, down) = (cells_u.div_ceil(side), cells_v.div_ceil(side));
+        let extent = lo.abs().max(hi.abs());
+        // The widening per axis in `f32`, rounded up and enlarged by an
+        // ulp of the extent: each box bound below is then one `f32` sum of
+        // an exact value (integers and heights below 2^24, scaled by a
+        // power of two) and this, whose rounding (half an ulp of a value
+        // within the extent) the enlargement covers, so it lies outside
+        // the exact bound.
+        let wide = |w: f64, e: f64| {
+            let w = w + e * f64::from(f32::EPSILON);
+            let f = w as f32;
+            if f64::from(f) < w {
+                f.next_up()
+            } else {
+                f
+            }
+        };
+        let (wx, wy, wz) = (
+            wide(m.x, extent.x),
+            wide(widened + m.y, extent.y),
+            wide(m.z, extent.z),
+        );
+        let mult = self.units_per_sample();
+        let height = move |raw: u32| (raw * mult) as f32 * (1.0 / 65536.0);
+        let boxes = (0..down).flat_map(move |bj| {
+            (0..across).map(move |bi| {
+                let (raw_lo, raw_hi) = skip.raw_bounds(level as u8, bi, bj);
+                let (x0, x1) = (bi * side, ((bi + 1) * side).min(cells_u));
+                let (z0, z1) = (bj * side, ((bj + 1) * side).min(cells_v));
+                (
+                    [x0 as f32 - wx, height(raw_lo) - wy, z0 as f32 - wz],
+                    [x1 as f32 + wx, height(raw_hi) + wy, z1 as f32 + wz],
+                )
+            })
+        });
+        Some(CullBlocks {
+            to_world: self.world_to_grid.exact.inverse(),
+            extent: extent * (1.0 + 1.0 / 1_048_576.0),
+            boxes,
+        })
     }
 
     /// World ray into grid space, in the precision of `S`

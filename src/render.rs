@@ -53,8 +53,8 @@ use core::ops::{ControlFlow, Range};
 
 use glam::Vec3;
 
-pub use crate::camera::RayCull;
 use crate::camera::{Camera, CameraPacket, CameraRay};
+pub use crate::camera::{RayCull, TracedRow};
 use crate::heightfield::{ColumnHint, HeightField};
 use crate::packet::{LANES, PACKETS};
 use crate::pixel::Pixel;
@@ -238,7 +238,7 @@ fn drive_packets<T: Copy>(
         for (k, out) in (&mut packets).enumerate() {
             let x0 = k * LANES;
             let (start, end) = (x0 as u32, (x0 + LANES) as u32);
-            if end <= traced.start || traced.end <= start {
+            if !traced.any_of(start..end) {
                 for (x, slot) in (start..).zip(out.iter_mut()) {
                     *slot = missed(x, y, stats);
                 }
@@ -392,7 +392,7 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
         let mut stats = drive_rows(settings, line, sink, |y, line, stats| {
             let traced = cull.row(y);
             for (x, slot) in (0u32..).zip(line.iter_mut()) {
-                *slot = if traced.contains(&x) {
+                *slot = if traced.contains(x) {
                     let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
                     let colour = pixels.trace_pixel_counting(cx, cy, stats, &mut counters);
                     P::from_linear(colour, x, y)

@@ -818,7 +818,7 @@ impl<'s> Renderer<'s> {
         for y in 0..height as u32 {
             let traced = cull.row(y);
             for (x, p) in (0u32..).zip(line.iter_mut()) {
-                *p = if traced.contains(&x) {
+                *p = if traced.contains(x) {
                     let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
                     let c = pixels.trace_pixel_counting(cx, cy, &mut stats, &mut counters);
                     Rgb888::from_linear(c, x, y)
