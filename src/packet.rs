@@ -669,12 +669,15 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
     // is compared lane-wise (no `y` is NaN: the lanes' components are
     // finite and their directions not zero).
     let mut y_here = o_y + t_here * d_y;
-    let passes = (cells_a as u32 + 2) * (top + 1);
     // In the loop, `k` is a line inside the field (`0..cells_a` up,
     // `1..=cells_a` down), so the columns between the lines, the block
     // column `column` below, are never empty.
     debug_assert!(cells_a >= 1 && (if UP { k < cells_a } else { k >= 1 }));
-    for _ in 0..passes {
+    // No count of passes: each pass moves `k` on by at least one line
+    // (`next` is past `k` in the direction of the march) or descends a
+    // level, and the march ends at level 1's failure or past the field's
+    // side, so it makes at most `cells_a + 1` steps and `top` descents.
+    loop {
         let next = if UP {
             ((k >> shift) + 1) << shift
         } else {
@@ -719,5 +722,4 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
             return (k != start).then_some(SharedStart { along_u, line: k });
         }
     }
-    None
 }
