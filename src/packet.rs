@@ -462,7 +462,13 @@ fn quad_starts<F: WalkGrid>(
             q,
         )
     };
-    [quad(0), quad(4)]
+    // The second quad's march is left out when the first quad's lanes
+    // marched and found no line: neighbouring rays, whose first steps
+    // rarely cull when the first quad's did not (skipping it is exact: its
+    // lanes start from their entries, as without a shared start).
+    let first = quad(0);
+    let marched = from[..4].contains(&true);
+    [first, if first.is_some() || !marched { quad(4) } else { None }]
 }
 
 /// Lane `l`'s walk (its axes all move), up to `t_far`.
