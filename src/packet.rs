@@ -59,8 +59,8 @@ use crate::real::Real;
 use crate::skip::SkipGrid;
 use crate::transform::GridTransform;
 use crate::traversal::{
-    nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, LineStart,
-    Traversal, Walk, WalkGrid,
+    nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, Traversal, Walk,
+    WalkGrid,
 };
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
@@ -263,8 +263,9 @@ fn clip(
 /// `2^23 + c`: no saturating conversion, which LLVM keeps scalar. (The
 /// lanes that are not walked get some cell.) Bench512: 12 instructions a
 /// primary ray fewer than lane by lane, rmnp_gradient 11, level_rmnp 16.
+/// The cells also in `f32`, as a [`pair`].
 #[inline(always)]
-fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> [i32; LANES] {
+fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> ([i32; LANES], [Vec4; 2]) {
     const TWO_23: f32 = 8_388_608.0;
     let (p, d) = (pair(p), pair(d));
     let one_if = |m: BVec4A| Vec4::select(m, Vec4::ONE, Vec4::ZERO);
@@ -273,17 +274,20 @@ fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> [i32; LANES] {
         let n = (p[h] + Vec4::splat(TWO_23)) - Vec4::splat(TWO_23);
         let floor = n - one_if(n.cmpgt(p[h]));
         let back = one_if(floor.cmpeq(p[h]) & d[h].cmple(Vec4::ZERO));
-        let c = (floor - back)
+        (floor - back)
             .max(Vec4::ZERO)
-            .min(Vec4::splat((cells - 1) as f32));
-        c + Vec4::splat(TWO_23)
+            .min(Vec4::splat((cells - 1) as f32))
     };
-    let c = unpair([half(0), half(1)]);
+    let cells = [half(0), half(1)];
+    let c = unpair([
+        cells[0] + Vec4::splat(TWO_23),
+        cells[1] + Vec4::splat(TWO_23),
+    ]);
     let mut i = [0; LANES];
     for l in 0..LANES {
         i[l] = (c[l].to_bits() - TWO_23.to_bits()) as i32;
     }
-    i
+    (i, cells)
 }
 
 /// [`nearest`] (not `any`) for each of `rays`, over the same `[t_min,
@@ -376,8 +380,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     };
     let (entry_u, entry_v) = (entry(0, last_u), entry(2, last_v));
     let (t_near, t_far) = (unpair(span.0), unpair(span.1));
-    let i = first_cells(&entry_u, &d[0], cells_u);
-    let j = first_cells(&entry_v, &d[2], cells_v);
+    let (i, i_f32) = first_cells(&entry_u, &d[0], cells_u);
+    let (j, j_f32) = first_cells(&entry_v, &d[2], cells_v);
 
     // (From the lanes' compares' bits: bench512 7 instructions a primary
     // ray fewer than lane by lane, rmnp_gradient 9.)
@@ -389,15 +393,26 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
 
     let Some(columns) = columns else {
         let shared = shared(&walked);
+        let lines = LineStarts::of(
+            rays,
+            &inv,
+            (&i_f32, &j_f32),
+            &span,
+            (cells_u, cells_v),
+            &shared,
+        );
         for l in 0..LANES {
             if walked[l] {
                 let mut walk = walk_of(l);
                 let (i, j, t_near) = (i[l], j[l], t_near[l]);
-                let start = match shared[l / 4] {
-                    Some(s) => walk.line_start(i, j, t_near, s.along_u, s.line),
-                    None => LineStart::Entry,
+                hits[l] = match shared[l / 4] {
+                    Some(s) if lines.at >> l & 1 != 0 => {
+                        let start = walk.line_start_at(i, j, s.along_u, s.line, lines.t_line[l]);
+                        walk.walk_from_line(field, start, counters)
+                    }
+                    Some(_) if lines.past >> l & 1 != 0 => None,
+                    _ => walk.walk_from_entry(field, i, j, t_near, counters),
                 };
-                hits[l] = walk.walk_from_start(field, start, i, j, t_near, counters);
             }
         }
         return hits;
@@ -468,7 +483,98 @@ fn quad_starts<F: WalkGrid>(
     // lanes start from their entries, as without a shared start).
     let first = quad(0);
     let marched = from[..4].contains(&true);
-    [first, if first.is_some() || !marched { quad(4) } else { None }]
+    [
+        first,
+        if first.is_some() || !marched {
+            quad(4)
+        } else {
+            None
+        },
+    ]
+}
+
+/// [`Walk::line_start`] of each lane of the quads with a shared start,
+/// lane-wise: `at`, the lanes that start at the cell beyond the quad's
+/// line (`LineStart::At`, whose parameter is `t_line`; the lane's
+/// [`Walk::line_start_at`]), and `past`, those whose walk ends before the
+/// line (`LineStart::Past`); the others start from their entries
+/// (`LineStart::Entry`).
+///
+/// The same answers, bit for bit: each of `line_start`'s tests is made
+/// here by the same operations on the same values. Its lines' parameters
+/// are `(line − o)·inv`, with the line an integer within `0..=2^20`,
+/// exact in `f32` (the first cell's lines computed in `f32` from the
+/// lane's first cell, also exact); `off` is `d > 0`; and
+/// [`Real::strict_boundaries`] of a lane's origin and reciprocal is
+/// `|o| < 2^20` and `2^-100 ≤ |inv| < 2^79` (its comparisons of the
+/// magnitudes' bits, which order non-negative floats as their values do,
+/// with NaNs above infinity: false both ways), with its test of the
+/// cells (at most 2^20 a side) made once. The lanes that start so walk
+/// from [`Walk::walk_from_line`], which leaves out `walk_from`'s tests of
+/// strictness, made here. Bench512: 1,153 -> 1,139 instructions a primary
+/// ray (lane by lane, LLVM had shared these tests between `line_start`
+/// and `walk_from`).
+struct LineStarts {
+    at: u32,
+    past: u32,
+    t_line: Lanes,
+}
+
+impl LineStarts {
+    #[inline(always)]
+    fn of(
+        rays: &RayPacket,
+        inv: &[Lanes; 3],
+        first: (&[Vec4; 2], &[Vec4; 2]),
+        span: &([Vec4; 2], [Vec4; 2]),
+        (cells_u, cells_v): (i32, i32),
+        shared: &[Option<SharedStart>; 2],
+    ) -> Self {
+        let mut starts = LineStarts {
+            at: 0,
+            past: 0,
+            t_line: [0.0; LANES],
+        };
+        let side = 1u32 << 20;
+        if cells_u.unsigned_abs() > side || cells_v.unsigned_abs() > side {
+            return starts;
+        }
+        let (o, d) = (&rays.origin, &rays.direction);
+        let mut t_line = [Vec4::ZERO; 2];
+        for h in 0..2 {
+            let Some(s) = shared[h] else {
+                continue;
+            };
+            let q = 4 * h;
+            let four = |v: &Lanes| Vec4::from_slice(&v[q..q + 4]);
+            let strict = |k: usize| {
+                let (o, inv) = (four(&o[k]).abs(), four(&inv[k]).abs());
+                o.cmplt(Vec4::splat(side as f32))
+                    & inv.cmpge(Vec4::splat(1.0 / (1u128 << 100) as f32))
+                    & inv.cmplt(Vec4::splat((1u128 << 79) as f32))
+            };
+            let (a, first) = if s.along_u {
+                (0, first.0[h])
+            } else {
+                (2, first.1[h])
+            };
+            let (o_a, inv_a) = (four(&o[a]), four(&inv[a]));
+            let off = Vec4::select(four(&d[a]).cmpgt(Vec4::ZERO), Vec4::ONE, Vec4::ZERO);
+            // The first column's near and far lines (in the walk's order).
+            let near = ((first + (Vec4::ONE - off)) - o_a) * inv_a;
+            let far = ((first + off) - o_a) * inv_a;
+            let t = (Vec4::splat(s.line as f32) - o_a) * inv_a;
+            let (t_near, t_far) = (span.0[h], span.1[h]);
+            let ok =
+                strict(0) & strict(2) & near.cmple(t_near) & t_near.cmple(far) & t.cmpgt(t_near);
+            let past = t.cmpge(t_far);
+            starts.at |= ((ok & !past).bitmask() as u32) << q;
+            starts.past |= ((ok & past).bitmask() as u32) << q;
+            t_line[h] = t;
+        }
+        starts.t_line = unpair(t_line);
+        starts
+    }
 }
 
 /// Lane `l`'s walk (its axes all move), up to `t_far`.
