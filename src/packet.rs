@@ -401,8 +401,9 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
             (cells_u, cells_v),
             &shared,
         );
+        // (The lanes that end before their quad's line build no walk.)
         for l in 0..LANES {
-            if walked[l] {
+            if walked[l] && lines.past >> l & 1 == 0 {
                 let mut walk = walk_of(l);
                 let (i, j, t_near) = (i[l], j[l], t_near[l]);
                 hits[l] = match shared[l / 4] {
@@ -410,7 +411,6 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
                         let start = walk.line_start_at(i, j, s.along_u, s.line, lines.t_line[l]);
                         walk.walk_from_line(field, start, counters)
                     }
-                    Some(_) if lines.past >> l & 1 != 0 => None,
                     _ => walk.walk_from_entry(field, i, j, t_near, counters),
                 };
             }
