@@ -698,9 +698,15 @@ fn shared_start<F: WalkGrid>(
     let t_far = fill(t_far);
     macro_rules! build {
         ($along_u:expr, $up:expr) => {
-            march::<F, $along_u, $up>(
-                field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
-            )
+            if skip.wide() {
+                march::<F, $along_u, $up, true>(
+                    field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
+                )
+            } else {
+                march::<F, $along_u, $up, false>(
+                    field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
+                )
+            }
         };
     }
     match (along_u, if along_u { way_u } else { way_v } > 0) {
@@ -718,7 +724,7 @@ fn shared_start<F: WalkGrid>(
 /// filled so.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
+fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     field: &F,
     skip: &SkipGrid<'_>,
     rays: &RayPacket,
@@ -775,7 +781,7 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
     // bench512 21 instructions a primary ray fewer, rmnp_gradient 11,
     // level_rmnp 20).
     let mut shift = log2 * level;
-    let mut highs = skip.level_highs(level);
+    let mut highs = skip.level_highs_as::<WIDE>(level);
     let (t_here, mut here) = at(k);
     // Each lane's `y` at line `k`: the lowest over the lanes and both lines
     // is compared lane-wise (no `y` is NaN: the lanes' components are
@@ -829,7 +835,7 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
         } else if level > 1 {
             level -= 1;
             shift -= log2;
-            highs = skip.level_highs(level);
+            highs = skip.level_highs_as::<WIDE>(level);
         } else {
             return (k != start).then_some(SharedStart { along_u, line: k });
         }
