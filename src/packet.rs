@@ -408,18 +408,21 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
             &shared,
         );
         // (The lanes that end before their quad's line build no walk.)
-        for l in 0..LANES {
-            if walked[l] && lines.past >> l & 1 == 0 {
-                let mut walk = walk_of(l);
-                let (i, j, t_near) = (i[l], j[l], t_near[l]);
-                hits[l] = match shared[l / 4] {
-                    Some(s) if lines.at >> l & 1 != 0 => {
-                        let start = walk.line_start_at(i, j, s.along_u, s.line, lines.t_line[l]);
-                        walk.walk_from_line(field, start, counters)
-                    }
-                    _ => walk.walk_from_entry(field, i, j, t_near, counters),
-                };
-            }
+        // (Over the bits of the lanes to walk: bench512 1,119 -> 1,115
+        // instructions a primary ray, the same time.)
+        let mut lanes_left = walked_bits & !lines.past;
+        while lanes_left != 0 {
+            let l = lanes_left.trailing_zeros() as usize;
+            lanes_left &= lanes_left - 1;
+            let mut walk = walk_of(l);
+            let (i, j, t_near) = (i[l], j[l], t_near[l]);
+            hits[l] = match shared[l / 4] {
+                Some(s) if lines.at >> l & 1 != 0 => {
+                    let start = walk.line_start_at(i, j, s.along_u, s.line, lines.t_line[l]);
+                    walk.walk_from_line(field, start, counters)
+                }
+                _ => walk.walk_from_entry(field, i, j, t_near, counters),
+            };
         }
         return hits;
     };
