@@ -577,8 +577,8 @@ impl LineStarts {
             let ok =
                 strict(0) & strict(2) & near.cmple(t_near) & t_near.cmple(far) & t.cmpgt(t_near);
             let past = t.cmpge(t_far);
-            starts.at |= ((ok & !past).bitmask() as u32) << q;
-            starts.past |= ((ok & past).bitmask() as u32) << q;
+            starts.at |= (ok & !past).bitmask() << q;
+            starts.past |= (ok & past).bitmask() << q;
             t_line[h] = t;
         }
         starts.t_line = unpair(t_line);
