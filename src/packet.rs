@@ -421,7 +421,7 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
                     let start = walk.line_start_at(i, j, s.along_u, s.line, lines.t_line[l]);
                     walk.walk_from_line(field, start, counters)
                 }
-                _ => walk.walk_from_entry(field, i, j, t_near, counters),
+                _ => walk.walk_from_entry_inline(field, i, j, t_near, counters),
             };
         }
         return hits;

@@ -1982,6 +1982,26 @@ impl<S: Real> Walk<S> {
         }
     }
 
+    /// [`walk_from_entry`](Self::walk_from_entry), inlined into its caller
+    /// (the packets' lanes).
+    #[inline(always)]
+    pub(crate) fn walk_from_entry_inline<F: WalkGrid>(
+        &mut self,
+        field: &F,
+        i: i32,
+        j: i32,
+        t_near: S,
+        counters: &mut Counters,
+    ) -> Option<GridHit<S>> {
+        let start = Resume {
+            i,
+            j,
+            t_a: t_near,
+            entry: Place::Interior,
+        };
+        self.walk_from(field, start, &mut None, counters)
+    }
+
     /// The walk from cell `(i, j)`, entered from inside at `t_near` (where
     /// the ray enters the field's box), in `field`'s mode.
     pub(crate) fn walk_from_entry<F: WalkGrid>(
