@@ -333,8 +333,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
             all & finite(o) & finite(inv) & inv.cmpne(Vec4::ZERO)
         })
     };
-    let covered = [covered_half(0), covered_half(1)];
-    let covered_bits = covered[0].bitmask() | covered[1].bitmask() << 4;
+    let covered_v = [covered_half(0), covered_half(1)];
+    let covered_bits = covered_v[0].bitmask() | covered_v[1].bitmask() << 4;
     let covered: [bool; LANES] = lanes(|l| covered_bits >> l & 1 != 0);
     let mut hits = [None; LANES];
     // (Most packets have no such lane: the loop is skipped. Bench512 4
@@ -391,14 +391,17 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
 
     // (From the lanes' compares' bits: bench512 7 instructions a primary
     // ray fewer than lane by lane, rmnp_gradient 9.)
-    let near_far = span.0[0].cmple(span.1[0]).bitmask() | span.0[1].cmple(span.1[1]).bitmask() << 4;
-    let walked_bits = covered_bits & near_far;
-    let walked: [bool; LANES] = lanes(|l| walked_bits >> l & 1 != 0);
-    let shared = |from: &[bool; LANES]| quad_starts(field, rays, &inv, (&i, &j), &t_far, from);
+    // (The walked lanes also as masks, for the quads' marches: bench512 5
+    // instructions a primary ray fewer than from arrays of flags.)
+    let walked_v = [
+        covered_v[0] & span.0[0].cmple(span.1[0]),
+        covered_v[1] & span.0[1].cmple(span.1[1]),
+    ];
+    let walked_bits = walked_v[0].bitmask() | walked_v[1].bitmask() << 4;
     let walk_of = |l: usize| lane_walk(field, rays, &inv, t_far[l], water, l);
 
     let Some(columns) = columns else {
-        let shared = shared(&walked);
+        let shared = quad_starts(field, rays, &inv, (&i, &j), &t_far, walked_bits, walked_v);
         let lines = LineStarts::of(
             rays,
             &inv,
@@ -437,7 +440,7 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
         // only by a walk that gets under way.
         let previous = columns[l];
         columns[l].clear();
-        if walked[l] {
+        if walked_bits >> l & 1 != 0 {
             let walk = walk_of(l);
             let (i, j, t_near) = (i[l], j[l], t_near[l]);
             let start = walk.column_start(field, &previous, t_min, t_max, i, j, t_near, counters);
@@ -445,7 +448,12 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
         }
     }
     let fresh = lanes(|l| starts[l].is_some_and(|(_, start)| !start.resumed));
-    let shared = shared(&fresh);
+    let fresh_bits = (0..LANES).fold(0, |bits, l| bits | (fresh[l] as u32) << l);
+    let fresh_v = [
+        BVec4A::from_array([fresh[0], fresh[1], fresh[2], fresh[3]]),
+        BVec4A::from_array([fresh[4], fresh[5], fresh[6], fresh[7]]),
+    ];
+    let shared = quad_starts(field, rays, &inv, (&i, &j), &t_far, fresh_bits, fresh_v);
     for l in 0..LANES {
         if let Some((mut walk, start)) = starts[l] {
             let (column, t_near) = (&mut columns[l], t_near[l]);
@@ -459,7 +467,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
 }
 
 /// The shared starts of the packet's quads (lanes 0–3 and 4–7), for the
-/// lanes in `from` ([`shared_start`]).
+/// lanes in `from` ([`shared_start`]), whose bits are also the lanes of
+/// `masks` (lanes 0–3, 4–7).
 #[inline(always)]
 fn quad_starts<F: WalkGrid>(
     field: &F,
@@ -467,20 +476,20 @@ fn quad_starts<F: WalkGrid>(
     inv: &[Lanes; 3],
     first: (&[i32; LANES], &[i32; LANES]),
     t_far: &Lanes,
-    from: &[bool; LANES],
+    from: u32,
+    masks: [BVec4A; 2],
 ) -> [Option<SharedStart>; 2] {
     let (Traversal::Hierarchy, Some(skip)) = (field.traversal(), field.skip()) else {
         return [None, None];
     };
     let quad = |q: usize| {
         let four = |v: &[i32; LANES]| [v[q], v[q + 1], v[q + 2], v[q + 3]];
-        let from = [from[q], from[q + 1], from[q + 2], from[q + 3]];
         shared_start(
             field,
             skip,
             rays,
             inv,
-            from,
+            (from >> q & 0xf, masks[q / 4]),
             [four(first.0), four(first.1)],
             t_far,
             q,
@@ -491,7 +500,7 @@ fn quad_starts<F: WalkGrid>(
     // rarely cull when the first quad's did not (skipping it is exact: its
     // lanes start from their entries, as without a shared start).
     let first = quad(0);
-    let marched = from[..4].contains(&true);
+    let marched = from & 0xf != 0;
     [
         first,
         if first.is_some() || !marched {
@@ -669,17 +678,19 @@ fn shared_start<F: WalkGrid>(
     skip: &SkipGrid<'_>,
     rays: &RayPacket,
     inv: &[Lanes; 3],
-    walked: [bool; 4],
+    (walked, mask): (u32, BVec4A),
     first: [[i32; 4]; 2],
     t_far: &Lanes,
     quad: usize,
 ) -> Option<SharedStart> {
-    let lead = walked.iter().position(|&w| w)?;
+    if walked == 0 {
+        return None;
+    }
+    let lead = walked.trailing_zeros() as usize;
     // Lanes that are not walked take the lead lane's ray: the bound is the
     // same, and the lane-wise steps below need no masks. (The lead's value
     // read from the array, not taken out of a `Vec4` by a jump table:
     // bench512 3 instructions a primary ray fewer.)
-    let mask = BVec4A::from_array(walked);
     let fill = |v: &Lanes| -> Vec4 {
         let four = Vec4::from_slice(&v[quad..quad + 4]);
         Vec4::select(mask, four, Vec4::splat(v[quad + lead]))
@@ -738,7 +749,7 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     skip: &SkipGrid<'_>,
     rays: &RayPacket,
     inv: &[Lanes; 3],
-    walked: [bool; 4],
+    walked: u32,
     first: [[i32; 4]; 2],
     t_far: Vec4,
     lead: usize,
@@ -767,7 +778,7 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     let firsts = first[!along_u as usize];
     let mut k = firsts[lead];
     for l in 0..4 {
-        if walked[l] && (firsts[l] - k) * step < 0 {
+        if walked >> l & 1 != 0 && (firsts[l] - k) * step < 0 {
             k = firsts[l];
         }
     }
