@@ -40,6 +40,10 @@
 //! hits; they test fewer blocks (bench512: 8.4 → 2.7 a ray). Quads, not
 //! the whole packet: the footprint of eight lanes is twice as wide, and
 //! the walks after the start cost more than the second quad's steps save.
+//! `Walk::line_start`'s tests of each lane are made lane-wise
+//! (`LineStarts`), and the second quad does not march when the first
+//! marched and found no line (its lanes then start from their entries,
+//! as they would with no shared start).
 //! With column coherence (level cameras), a lane that resumes where the ray
 //! below it stopped starts there; the others take their quad's shared start
 //! (`Walk::walk_column_from`: a start past cells the flat walk culls keeps
