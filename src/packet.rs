@@ -781,9 +781,9 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     // The near line of the lanes' first column (in the walk's order).
     let firsts = first[!along_u as usize];
     let mut k = firsts[lead];
-    for l in 0..4 {
-        if walked >> l & 1 != 0 && (firsts[l] - k) * step < 0 {
-            k = firsts[l];
+    for (l, &first) in firsts.iter().enumerate() {
+        if walked >> l & 1 != 0 && (first - k) * step < 0 {
+            k = first;
         }
     }
     k += (step < 0) as i32;
