@@ -40,6 +40,10 @@
 //! hits; they test fewer blocks (bench512: 8.4 → 2.7 a ray). Quads, not
 //! the whole packet: the footprint of eight lanes is twice as wide, and
 //! the walks after the start cost more than the second quad's steps save.
+//! `Walk::line_start`'s tests of each lane are made lane-wise
+//! (`LineStarts`), and the second quad does not march when the first
+//! marched and found no line (its lanes then start from their entries,
+//! as they would with no shared start).
 //! With column coherence (level cameras), a lane that resumes where the ray
 //! below it stopped starts there; the others take their quad's shared start
 //! (`Walk::walk_column_from`: a start past cells the flat walk culls keeps
@@ -59,8 +63,8 @@ use crate::real::Real;
 use crate::skip::SkipGrid;
 use crate::transform::GridTransform;
 use crate::traversal::{
-    nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, LineStart,
-    Traversal, Walk, WalkGrid,
+    nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, Traversal, Walk,
+    WalkGrid,
 };
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
@@ -263,8 +267,9 @@ fn clip(
 /// `2^23 + c`: no saturating conversion, which LLVM keeps scalar. (The
 /// lanes that are not walked get some cell.) Bench512: 12 instructions a
 /// primary ray fewer than lane by lane, rmnp_gradient 11, level_rmnp 16.
+/// The cells also in `f32`, as a [`pair`].
 #[inline(always)]
-fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> [i32; LANES] {
+fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> ([i32; LANES], [Vec4; 2]) {
     const TWO_23: f32 = 8_388_608.0;
     let (p, d) = (pair(p), pair(d));
     let one_if = |m: BVec4A| Vec4::select(m, Vec4::ONE, Vec4::ZERO);
@@ -273,17 +278,20 @@ fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> [i32; LANES] {
         let n = (p[h] + Vec4::splat(TWO_23)) - Vec4::splat(TWO_23);
         let floor = n - one_if(n.cmpgt(p[h]));
         let back = one_if(floor.cmpeq(p[h]) & d[h].cmple(Vec4::ZERO));
-        let c = (floor - back)
+        (floor - back)
             .max(Vec4::ZERO)
-            .min(Vec4::splat((cells - 1) as f32));
-        c + Vec4::splat(TWO_23)
+            .min(Vec4::splat((cells - 1) as f32))
     };
-    let c = unpair([half(0), half(1)]);
+    let cells = [half(0), half(1)];
+    let c = unpair([
+        cells[0] + Vec4::splat(TWO_23),
+        cells[1] + Vec4::splat(TWO_23),
+    ]);
     let mut i = [0; LANES];
     for l in 0..LANES {
         i[l] = (c[l].to_bits() - TWO_23.to_bits()) as i32;
     }
-    i
+    (i, cells)
 }
 
 /// [`nearest`] (not `any`) for each of `rays`, over the same `[t_min,
@@ -317,14 +325,20 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     // `x − x == 0` is `x.is_finite()` (∞ − ∞ and NaN − NaN are NaN).
     #[allow(clippy::eq_op)]
     let finite = |x: Vec4| (x - x).cmpeq(Vec4::ZERO);
+    // A finite, non-zero direction component whose reciprocal is finite:
+    // a finite, non-zero reciprocal (`1/d` is NaN for a NaN `d`, zero for
+    // an infinite one, infinite for a zero one; and never zero for a
+    // finite `d`, unless denormals are flushed, when the lane is left to
+    // `nearest`, which covers any ray). Bench512: 2 instructions a primary
+    // ray fewer.
     let covered_half = |h: usize| {
         (0..3).fold(BVec4A::splat(true), |all, k| {
-            let (o, d, inv) = (o4[k][h], d4[k][h], inv4[k][h]);
-            all & finite(o) & finite(d) & d.cmpne(Vec4::ZERO) & finite(inv)
+            let (o, inv) = (o4[k][h], inv4[k][h]);
+            all & finite(o) & finite(inv) & inv.cmpne(Vec4::ZERO)
         })
     };
-    let covered = [covered_half(0), covered_half(1)];
-    let covered_bits = covered[0].bitmask() | covered[1].bitmask() << 4;
+    let covered_v = [covered_half(0), covered_half(1)];
+    let covered_bits = covered_v[0].bitmask() | covered_v[1].bitmask() << 4;
     let covered: [bool; LANES] = lanes(|l| covered_bits >> l & 1 != 0);
     let mut hits = [None; LANES];
     // (Most packets have no such lane: the loop is skipped. Bench512 4
@@ -376,29 +390,46 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     };
     let (entry_u, entry_v) = (entry(0, last_u), entry(2, last_v));
     let (t_near, t_far) = (unpair(span.0), unpair(span.1));
-    let i = first_cells(&entry_u, &d[0], cells_u);
-    let j = first_cells(&entry_v, &d[2], cells_v);
+    let (i, i_f32) = first_cells(&entry_u, &d[0], cells_u);
+    let (j, j_f32) = first_cells(&entry_v, &d[2], cells_v);
 
     // (From the lanes' compares' bits: bench512 7 instructions a primary
     // ray fewer than lane by lane, rmnp_gradient 9.)
-    let near_far = span.0[0].cmple(span.1[0]).bitmask() | span.0[1].cmple(span.1[1]).bitmask() << 4;
-    let walked_bits = covered_bits & near_far;
-    let walked: [bool; LANES] = lanes(|l| walked_bits >> l & 1 != 0);
-    let shared = |from: &[bool; LANES]| quad_starts(field, rays, &inv, (&i, &j), &t_far, from);
+    // (The walked lanes also as masks, for the quads' marches: bench512 5
+    // instructions a primary ray fewer than from arrays of flags.)
+    let walked_v = [
+        covered_v[0] & span.0[0].cmple(span.1[0]),
+        covered_v[1] & span.0[1].cmple(span.1[1]),
+    ];
+    let walked_bits = walked_v[0].bitmask() | walked_v[1].bitmask() << 4;
     let walk_of = |l: usize| lane_walk(field, rays, &inv, t_far[l], water, l);
 
     let Some(columns) = columns else {
-        let shared = shared(&walked);
-        for l in 0..LANES {
-            if walked[l] {
-                let mut walk = walk_of(l);
-                let (i, j, t_near) = (i[l], j[l], t_near[l]);
-                let start = match shared[l / 4] {
-                    Some(s) => walk.line_start(i, j, t_near, s.along_u, s.line),
-                    None => LineStart::Entry,
-                };
-                hits[l] = walk.walk_from_start(field, start, i, j, t_near, counters);
-            }
+        let shared = quad_starts(field, rays, &inv, (&i, &j), &t_far, walked_bits, walked_v);
+        let lines = LineStarts::of(
+            rays,
+            &inv,
+            (&i_f32, &j_f32),
+            &span,
+            (cells_u, cells_v),
+            &shared,
+        );
+        // (The lanes that end before their quad's line build no walk.)
+        // (Over the bits of the lanes to walk: bench512 1,119 -> 1,115
+        // instructions a primary ray, the same time.)
+        let mut lanes_left = walked_bits & !lines.past;
+        while lanes_left != 0 {
+            let l = lanes_left.trailing_zeros() as usize;
+            lanes_left &= lanes_left - 1;
+            let mut walk = walk_of(l);
+            let (i, j, t_near) = (i[l], j[l], t_near[l]);
+            hits[l] = match shared[l / 4] {
+                Some(s) if lines.at >> l & 1 != 0 => {
+                    let start = walk.line_start_at(i, j, s.along_u, s.line, lines.t_line[l]);
+                    walk.walk_from_line(field, start, counters)
+                }
+                _ => walk.walk_from_entry_inline(field, i, j, t_near, counters),
+            };
         }
         return hits;
     };
@@ -413,7 +444,7 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
         // only by a walk that gets under way.
         let previous = columns[l];
         columns[l].clear();
-        if walked[l] {
+        if walked_bits >> l & 1 != 0 {
             let walk = walk_of(l);
             let (i, j, t_near) = (i[l], j[l], t_near[l]);
             let start = walk.column_start(field, &previous, t_min, t_max, i, j, t_near, counters);
@@ -421,7 +452,12 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
         }
     }
     let fresh = lanes(|l| starts[l].is_some_and(|(_, start)| !start.resumed));
-    let shared = shared(&fresh);
+    let fresh_bits = (0..LANES).fold(0, |bits, l| bits | (fresh[l] as u32) << l);
+    let fresh_v = [
+        BVec4A::from_array([fresh[0], fresh[1], fresh[2], fresh[3]]),
+        BVec4A::from_array([fresh[4], fresh[5], fresh[6], fresh[7]]),
+    ];
+    let shared = quad_starts(field, rays, &inv, (&i, &j), &t_far, fresh_bits, fresh_v);
     for l in 0..LANES {
         if let Some((mut walk, start)) = starts[l] {
             let (column, t_near) = (&mut columns[l], t_near[l]);
@@ -435,7 +471,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
 }
 
 /// The shared starts of the packet's quads (lanes 0–3 and 4–7), for the
-/// lanes in `from` ([`shared_start`]).
+/// lanes in `from` ([`shared_start`]), whose bits are also the lanes of
+/// `masks` (lanes 0–3, 4–7).
 #[inline(always)]
 fn quad_starts<F: WalkGrid>(
     field: &F,
@@ -443,26 +480,123 @@ fn quad_starts<F: WalkGrid>(
     inv: &[Lanes; 3],
     first: (&[i32; LANES], &[i32; LANES]),
     t_far: &Lanes,
-    from: &[bool; LANES],
+    from: u32,
+    masks: [BVec4A; 2],
 ) -> [Option<SharedStart>; 2] {
     let (Traversal::Hierarchy, Some(skip)) = (field.traversal(), field.skip()) else {
         return [None, None];
     };
     let quad = |q: usize| {
         let four = |v: &[i32; LANES]| [v[q], v[q + 1], v[q + 2], v[q + 3]];
-        let from = [from[q], from[q + 1], from[q + 2], from[q + 3]];
         shared_start(
             field,
             skip,
             rays,
             inv,
-            from,
+            (from >> q & 0xf, masks[q / 4]),
             [four(first.0), four(first.1)],
             t_far,
             q,
         )
     };
-    [quad(0), quad(4)]
+    // The second quad's march is left out when the first quad's lanes
+    // marched and found no line: neighbouring rays, whose first steps
+    // rarely cull when the first quad's did not (skipping it is exact: its
+    // lanes start from their entries, as without a shared start).
+    let first = quad(0);
+    let marched = from & 0xf != 0;
+    [
+        first,
+        if first.is_some() || !marched {
+            quad(4)
+        } else {
+            None
+        },
+    ]
+}
+
+/// [`Walk::line_start`] of each lane of the quads with a shared start,
+/// lane-wise: `at`, the lanes that start at the cell beyond the quad's
+/// line (`LineStart::At`, whose parameter is `t_line`; the lane's
+/// [`Walk::line_start_at`]), and `past`, those whose walk ends before the
+/// line (`LineStart::Past`); the others start from their entries
+/// (`LineStart::Entry`).
+///
+/// The same answers, bit for bit: each of `line_start`'s tests is made
+/// here by the same operations on the same values. Its lines' parameters
+/// are `(line − o)·inv`, with the line an integer within `0..=2^20`,
+/// exact in `f32` (the first cell's lines computed in `f32` from the
+/// lane's first cell, also exact); `off` is `d > 0`; and
+/// [`Real::strict_boundaries`] of a lane's origin and reciprocal is
+/// `|o| < 2^20` and `2^-100 ≤ |inv| < 2^79` (its comparisons of the
+/// magnitudes' bits, which order non-negative floats as their values do,
+/// with NaNs above infinity: false both ways), with its test of the
+/// cells (at most 2^20 a side) made once. The lanes that start so walk
+/// from [`Walk::walk_from_line`], which leaves out `walk_from`'s tests of
+/// strictness, made here. Bench512: 1,153 -> 1,139 instructions a primary
+/// ray (lane by lane, LLVM had shared these tests between `line_start`
+/// and `walk_from`).
+struct LineStarts {
+    at: u32,
+    past: u32,
+    t_line: Lanes,
+}
+
+impl LineStarts {
+    #[inline(always)]
+    fn of(
+        rays: &RayPacket,
+        inv: &[Lanes; 3],
+        first: (&[Vec4; 2], &[Vec4; 2]),
+        span: &([Vec4; 2], [Vec4; 2]),
+        (cells_u, cells_v): (i32, i32),
+        shared: &[Option<SharedStart>; 2],
+    ) -> Self {
+        let mut starts = LineStarts {
+            at: 0,
+            past: 0,
+            t_line: [0.0; LANES],
+        };
+        let side = 1u32 << 20;
+        if cells_u.unsigned_abs() > side || cells_v.unsigned_abs() > side {
+            return starts;
+        }
+        let (o, d) = (&rays.origin, &rays.direction);
+        let mut t_line = [Vec4::ZERO; 2];
+        for h in 0..2 {
+            let Some(s) = shared[h] else {
+                continue;
+            };
+            let q = 4 * h;
+            let four = |v: &Lanes| Vec4::from_slice(&v[q..q + 4]);
+            let strict = |k: usize| {
+                let (o, inv) = (four(&o[k]).abs(), four(&inv[k]).abs());
+                o.cmplt(Vec4::splat(side as f32))
+                    & inv.cmpge(Vec4::splat(1.0 / (1u128 << 100) as f32))
+                    & inv.cmplt(Vec4::splat((1u128 << 79) as f32))
+            };
+            let (a, first) = if s.along_u {
+                (0, first.0[h])
+            } else {
+                (2, first.1[h])
+            };
+            let (o_a, inv_a) = (four(&o[a]), four(&inv[a]));
+            let off = Vec4::select(four(&d[a]).cmpgt(Vec4::ZERO), Vec4::ONE, Vec4::ZERO);
+            // The first column's near and far lines (in the walk's order).
+            let near = ((first + (Vec4::ONE - off)) - o_a) * inv_a;
+            let far = ((first + off) - o_a) * inv_a;
+            let t = (Vec4::splat(s.line as f32) - o_a) * inv_a;
+            let (t_near, t_far) = (span.0[h], span.1[h]);
+            let ok =
+                strict(0) & strict(2) & near.cmple(t_near) & t_near.cmple(far) & t.cmpgt(t_near);
+            let past = t.cmpge(t_far);
+            starts.at |= (ok & !past).bitmask() << q;
+            starts.past |= (ok & past).bitmask() << q;
+            t_line[h] = t;
+        }
+        starts.t_line = unpair(t_line);
+        starts
+    }
 }
 
 /// Lane `l`'s walk (its axes all move), up to `t_far`.
@@ -548,17 +682,19 @@ fn shared_start<F: WalkGrid>(
     skip: &SkipGrid<'_>,
     rays: &RayPacket,
     inv: &[Lanes; 3],
-    walked: [bool; 4],
+    (walked, mask): (u32, BVec4A),
     first: [[i32; 4]; 2],
     t_far: &Lanes,
     quad: usize,
 ) -> Option<SharedStart> {
-    let lead = walked.iter().position(|&w| w)?;
+    if walked == 0 {
+        return None;
+    }
+    let lead = walked.trailing_zeros() as usize;
     // Lanes that are not walked take the lead lane's ray: the bound is the
     // same, and the lane-wise steps below need no masks. (The lead's value
     // read from the array, not taken out of a `Vec4` by a jump table:
     // bench512 3 instructions a primary ray fewer.)
-    let mask = BVec4A::from_array(walked);
     let fill = |v: &Lanes| -> Vec4 {
         let four = Vec4::from_slice(&v[quad..quad + 4]);
         Vec4::select(mask, four, Vec4::splat(v[quad + lead]))
@@ -586,9 +722,15 @@ fn shared_start<F: WalkGrid>(
     let t_far = fill(t_far);
     macro_rules! build {
         ($along_u:expr, $up:expr) => {
-            march::<F, $along_u, $up>(
-                field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
-            )
+            if skip.wide() {
+                march::<F, $along_u, $up, true>(
+                    field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
+                )
+            } else {
+                march::<F, $along_u, $up, false>(
+                    field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
+                )
+            }
         };
     }
     match (along_u, if along_u { way_u } else { way_v } > 0) {
@@ -606,12 +748,12 @@ fn shared_start<F: WalkGrid>(
 /// filled so.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
+fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     field: &F,
     skip: &SkipGrid<'_>,
     rays: &RayPacket,
     inv: &[Lanes; 3],
-    walked: [bool; 4],
+    walked: u32,
     first: [[i32; 4]; 2],
     t_far: Vec4,
     lead: usize,
@@ -639,9 +781,9 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
     // The near line of the lanes' first column (in the walk's order).
     let firsts = first[!along_u as usize];
     let mut k = firsts[lead];
-    for l in 0..4 {
-        if walked[l] && (firsts[l] - k) * step < 0 {
-            k = firsts[l];
+    for (l, &first) in firsts.iter().enumerate() {
+        if walked >> l & 1 != 0 && (first - k) * step < 0 {
+            k = first;
         }
     }
     k += (step < 0) as i32;
@@ -663,18 +805,21 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
     // bench512 21 instructions a primary ray fewer, rmnp_gradient 11,
     // level_rmnp 20).
     let mut shift = log2 * level;
-    let mut highs = skip.level_highs(level);
+    let mut highs = skip.level_highs_as::<WIDE>(level);
     let (t_here, mut here) = at(k);
     // Each lane's `y` at line `k`: the lowest over the lanes and both lines
     // is compared lane-wise (no `y` is NaN: the lanes' components are
     // finite and their directions not zero).
     let mut y_here = o_y + t_here * d_y;
-    let passes = (cells_a as u32 + 2) * (top + 1);
     // In the loop, `k` is a line inside the field (`0..cells_a` up,
     // `1..=cells_a` down), so the columns between the lines, the block
     // column `column` below, are never empty.
     debug_assert!(cells_a >= 1 && (if UP { k < cells_a } else { k >= 1 }));
-    for _ in 0..passes {
+    // No count of passes: each pass moves `k` on by at least one line
+    // (`next` is past `k` in the direction of the march) or descends a
+    // level, and the march ends at level 1's failure or past the field's
+    // side, so it makes at most `cells_a + 1` steps and `top` descents.
+    loop {
         let next = if UP {
             ((k >> shift) + 1) << shift
         } else {
@@ -714,10 +859,9 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool>(
         } else if level > 1 {
             level -= 1;
             shift -= log2;
-            highs = skip.level_highs(level);
+            highs = skip.level_highs_as::<WIDE>(level);
         } else {
             return (k != start).then_some(SharedStart { along_u, line: k });
         }
     }
-    None
 }
