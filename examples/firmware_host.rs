@@ -95,7 +95,7 @@ fn main() -> ExitCode {
         let (w, h) = kind.size();
         let camera = hfray::Camera::new(&scene_model.camera, w as u32, h as u32).unwrap();
         let tracer = hfray::Tracer::<{ scene::OBJECTS }>::new(&scene_model, &fields).unwrap();
-        let cull = tracer.ray_cull(&camera);
+        let cull = tracer.ray_cull(&camera, Some(0..h as u32));
         let mut n = 0;
         let mut inrange = 0;
         for y in 0..h as u32 {

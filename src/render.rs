@@ -268,7 +268,7 @@ fn packet_cull<const O: usize>(tracer: &Tracer<'_, O>, camera: &Camera, coherent
     if coherent {
         RayCull::none(camera.width())
     } else {
-        tracer.ray_cull(camera)
+        tracer.ray_cull(camera, None)
     }
 }
 
@@ -386,7 +386,7 @@ fn render_with<const O: usize, const L: usize, const G: usize, P: Pixel>(
         // The one sample at the pixel centre (the loop below with its sum
         // of one and `norm` 1 gives the same bits), for the pixels whose
         // rays may reach something.
-        let cull = tracer.ray_cull(&camera);
+        let cull = tracer.ray_cull(&camera, Some(settings.rows.clone()));
         let pixels = tracer.camera_tracer(&camera);
         // The background's pixel, converted once if the format allows
         // (Cortex-M4F base frame 13.00 -> 12.94 M instructions).

@@ -117,7 +117,7 @@ fn random_cases(
             continue;
         };
         let tracer = Tracer::new(&model, &fields).unwrap();
-        let cull = tracer.ray_cull(&camera);
+        let cull = tracer.ray_cull(&camera, Some(0..camera.height()));
         check(case, &fields[0], &camera, &tracer, &cull);
     }
 }
@@ -243,7 +243,7 @@ fn a_pitched_view_leaves_out_the_sky_over_the_terrain() {
     );
     let camera = Camera::new(&model.camera, width, height).unwrap();
     let tracer = Tracer::new(&model, &fields).unwrap();
-    let cull = tracer.ray_cull(&camera);
+    let cull = tracer.ray_cull(&camera, Some(0..camera.height()));
     let (mut sky, mut left_out) = (0u32, 0u32);
     for y in 0..height {
         let traced = cull.row(y);

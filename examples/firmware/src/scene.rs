@@ -813,7 +813,7 @@ impl<'s> Renderer<'s> {
         // The pixels whose rays may reach the field (as `hfray::render`);
         // the others are the background, converted once (`Rgb888` ignores
         // the position).
-        let cull = self.tracer.ray_cull(&self.camera);
+        let cull = self.tracer.ray_cull(&self.camera, Some(0..height as u32));
         let missed = Rgb888::from_linear(self.tracer.trace_missed(&mut Stats::default()), 0, 0);
         for y in 0..height as u32 {
             let traced = cull.row(y);
