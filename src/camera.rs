@@ -369,7 +369,10 @@ impl RayCull {
         let height = camera.height().min(u16::MAX as u32);
         let group = self.width.div_ceil(SKYLINE_COLUMNS as u32);
         let groups = self.width.div_ceil(group) as usize;
-        let mut sky = [u16::MAX; SKYLINE_COLUMNS];
+        // Built in place: a second array would be half a kilobyte more of
+        // the Cortex-M stack.
+        let sky = &mut self.sky;
+        sky.fill(u16::MAX);
         let last_column = (self.width - 1) as f32;
         for (lo, hi) in boxes {
             let (mut left, mut right, mut top) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY);
@@ -428,7 +431,6 @@ impl RayCull {
                 *slot = height as u16; // no block reaches these columns
             }
         }
-        self.sky = sky;
         self.sky_group = group;
         self
     }
