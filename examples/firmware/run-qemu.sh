@@ -215,6 +215,15 @@ profile() {
 # frame_instructions LOG: the instructions of the frame (the program brackets
 # it with marker instructions, tools/qemu-insn-count), from a QEMU log.
 frame_instructions() { sed -n 's/^insn_count: frame=\([0-9]*\).*/\1/p' "$1"; }
+# check_marks LOG: fails the run unless the frame's markers ran in pairs (a
+# marker the plugin missed would make the frame a part of itself).
+check_marks() {
+    local marks
+    marks="$(sed -n 's/^insn_count: frame=.* marks=\([0-9]*\).*/\1/p' "$1")"
+    if [[ -z "$marks" || $((marks % 2)) != 0 ]]; then
+        fail "$1: the frame markers ran ${marks:-?} times, not in pairs"
+    fi
+}
 # The work counters every program prints; they must equal the host's.
 work_keys=(hits reflected_rays shadow_rays shadow_hits cells triangle_tests dropped_rays)
 work() {
@@ -329,6 +338,7 @@ for pair in thumbv6m-none-eabi:microbit thumbv7em-none-eabihf:mps2-an386; do
         fi
         compare "$t" "$ref" "$line" "$ppm"
         insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+        check_marks "$out/qemu-$tag.log"
         frame_insns="$(frame_instructions "$out/qemu-$tag.log")"
         vfp="$(sed -n 's/.*vfp(cp10\/11)=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
         echo "target=$t frame_checksum=$(field frame_checksum "$line") host_checksum=${host_sum[$ref]}" \
@@ -374,6 +384,7 @@ if ((all)); then
             -plugin "$plugin,out=$out/insns-$tag.txt,frame_out=$out/frame-insns-$tag.txt" -d plugin -D "$out/qemu-$tag.log" \
             -kernel "$elf")" || true
         insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+        check_marks "$out/qemu-$tag.log"
         frame_insns="$(frame_instructions "$out/qemu-$tag.log")"
         if [[ "$scene" == base ]]; then
             ppm="$out/frame-microbit-minimal.ppm"
@@ -409,6 +420,7 @@ for r in "${runs[@]}"; do
     mv -f "$scratch/frame-i486.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
     compare "$t (qemu-i386 -cpu 486)" "$scene" "$line" "$ppm"
     insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+    check_marks "$out/qemu-$tag.log"
     frame_insns="$(frame_instructions "$out/qemu-$tag.log")"
     x87="$(sed -n 's/.*x87(D8-DF,9B)=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
     # The same ELF run directly by the kernel with an 8 MiB address-space cap
@@ -458,6 +470,7 @@ for scene in "${fixed_scenes[@]}"; do
     mv -f "$scratch/frame-i486.ppm" "$ppm" 2>/dev/null || rm -f "$ppm"
     compare "$t" "fixed:$scene" "$line" "$ppm"
     insns="$(sed -n 's/^insn_count: total=\([0-9]*\).*/\1/p' "$out/qemu-$tag.log")"
+    check_marks "$out/qemu-$tag.log"
     frame_insns="$(frame_instructions "$out/qemu-$tag.log")"
     segments="$(sed -n 's/.*segment_fp=\([0-9]*,[0-9]*\)$/\1/p' "$out/qemu-$tag.log")"
     x87_setup="${segments%%,*}" x87_pixels="${segments#*,}"
