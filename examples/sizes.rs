@@ -9,7 +9,7 @@ use hfray::traversal::{Counters, GridHit, GridRay};
 use hfray::{FieldHit, HeightField, Ray, Transform};
 
 fn main() {
-    let rows: [(&str, usize); 16] = [
+    let rows: [(&str, usize); 17] = [
         (
             "HeightField (per field; samples are borrowed)",
             size_of::<HeightField<'static>>(),
@@ -25,6 +25,10 @@ fn main() {
         ("Counters", size_of::<Counters>()),
         ("ColumnHint", size_of::<hfray::ColumnHint>()),
         ("Camera", size_of::<Camera>()),
+        (
+            "RayCull (per frame: the field box's hull and the skyline)",
+            size_of::<hfray::render::RayCull>(),
+        ),
         ("RenderSettings", size_of::<RenderSettings>()),
         ("Stats", size_of::<Stats>()),
         (

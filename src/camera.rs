@@ -206,7 +206,7 @@ pub struct Camera {
 /// ray left out misses with no work counted.
 ///
 /// **The skyline.** With a skip pyramid attached to the field, the pixels
-/// above its blocks are left out too ([`with_skyline`](Self::with_skyline),
+/// above its blocks are left out too (`with_skyline`,
 /// from `HeightField::cull_blocks`): a pitched view's rays that pass over
 /// the terrain but inside the field's box (the base firmware frame: 1,153
 /// more of its rays, of the 1,647 that cross the box and miss; frame
