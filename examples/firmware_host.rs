@@ -91,26 +91,6 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    if std::env::var_os("SKYDBG").is_some() {
-        let (w, h) = kind.size();
-        let camera = hfray::Camera::new(&scene_model.camera, w as u32, h as u32).unwrap();
-        let tracer = hfray::Tracer::<{ scene::OBJECTS }>::new(&scene_model, &fields).unwrap();
-        let cull = tracer.ray_cull(&camera, Some(0..h as u32));
-        let mut n = 0;
-        let mut inrange = 0;
-        for y in 0..h as u32 {
-            let row = cull.row(y);
-            for x in 0..w as u32 {
-                if row.range.contains(&x) {
-                    inrange += 1;
-                    if !row.contains(x) {
-                        n += 1;
-                    }
-                }
-            }
-        }
-        eprintln!("SKY culled {n} of {inrange} in range; {:?}", cull);
-    }
     let (mut frame, mut hash, mut stats) = match render_both(kind, &scene_model, &fields) {
         Ok(r) => r,
         Err(e) => {

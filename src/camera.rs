@@ -210,8 +210,9 @@ pub struct Camera {
 /// from `HeightField::cull_blocks`): a pitched view's rays that pass over
 /// the terrain but inside the field's box (the base firmware frame: 1,153
 /// more of its rays, of the 1,647 that cross the box and miss; frame
-/// instructions Cortex-M4F 12.63 → 11.83 M, i486 19.14 → 17.99 M). Each block of one level of the pyramid (its cells' box, from
-/// its lowest to its highest sample, widened as the field's box is) is
+/// instructions Cortex-M4F 12.63 → 11.82 M, i486 19.14 → 17.98 M). Each
+/// block of one level of the pyramid (its cells' box, from its lowest to
+/// its highest sample, widened as the field's box is) is
 /// projected as the field's box is, in `f32` with a bound on that rounding
 /// added to the margins; each column of pixels keeps the first row whose
 /// centre may lie within the bounding rectangle of some block's projection
@@ -510,7 +511,9 @@ impl RayCull {
 /// reciprocals make it. In `f32`: `A` and `c` rounded (2^-24 of each
 /// entry), each row's sum of three products and `c` rounded four times, so
 /// each of `s`, `a`, `b` is within `6u·B` of exact (`u` = 2^-24, `B` the
-/// row's `Σ|A_j|·extent_j + |c|`; 8 taken); then
+/// row's `Σ|A_j|·extent_j + |c|`; 16 taken: on the x87, which the i486
+/// program sets to round to 24 bits while it renders, the `f64` products
+/// that make `A` and `c` round as `f32`'s, four roundings more); then
 /// `|â/ŝ − a/s| ≤ (E_a + |a/s|·E_s)/(s − E_s)`, plus the quotient's
 /// rounding, with `s` at least the least depth of the field box's corners
 /// and `|a/s|` at most the largest over them (an affine map and its
@@ -545,7 +548,7 @@ impl Projector {
         let u = f64::from(f32::EPSILON) / 2.0;
         let row = |k: usize| -> ([f32; 4], f64) {
             let r = a.row(k);
-            let bound = 8.0 * u * (r.abs().dot(extent.abs()) + c[k].abs());
+            let bound = 16.0 * u * (r.abs().dot(extent.abs()) + c[k].abs());
             ([r.x as f32, r.y as f32, r.z as f32, c[k] as f32], bound)
         };
         let ((rs, es), (ra, ea), (rb, eb)) = (row(0), row(1), row(2));
