@@ -802,13 +802,13 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         };
         let from = camera.location().as_dvec3();
         let cull = RayCull::new(camera, field.and_then(|f| f.cull_corners(from)));
-        // The skyline's blocks: one for every 8 pixels of the rows at most
-        // (each costs about 250 instructions to place on the Cortex-M4F, a
-        // pixel left out saves about 900; the desktop renders bands of 8
-        // rows, each with its own cull).
         let Some(rows) = skyline else {
             return cull;
         };
+        // The skyline's blocks: one for every 8 pixels of the rows at most
+        // (each costs about 250 instructions to place on the Cortex-M4F, a
+        // pixel left out saves about 900; a render of a band of rows makes
+        // a cull of its own).
         let pixels = u64::from(camera.width()) * u64::from(rows.end.saturating_sub(rows.start));
         match field.and_then(|f| f.cull_blocks(from, (pixels / 8).max(64))) {
             Some(blocks) => {
