@@ -737,7 +737,7 @@ impl<'a> HeightField<'a> {
     /// few 2^-24 of those). `None` unless the field walks in `f32`. For
     /// [`crate::camera::RayCull`].
     pub(crate) fn cull_corners(&self, from: DVec3) -> Option<[DVec3; 8]> {
-        let (lo, hi) = self.cull_box(from)?;
+        let (lo, hi, _) = self.cull_box(from)?;
         let to_world = self.world_to_grid.exact.inverse();
         let corners: [DVec3; 8] = core::array::from_fn(|k| {
             let pick = |bit: usize, l: f64, h: f64| if k >> bit & 1 == 0 { l } else { h };
@@ -751,25 +751,12 @@ impl<'a> HeightField<'a> {
     }
 
     /// [`cull_corners`](Self::cull_corners)' box in grid space, low and
-    /// high corner.
-    fn cull_box(&self, from: DVec3) -> Option<(DVec3, DVec3)> {
+    /// high corner, and how it is widened for a camera at `from`: each
+    /// axis by `m`, the height by `widened` more (`(m, widened)`).
+    fn cull_box(&self, from: DVec3) -> Option<(DVec3, DVec3, (DVec3, f64))> {
         if self.numeric != Numeric::F32 {
             return None;
         }
-        let (m, widened) = self.cull_widening(from);
-        Some((
-            DVec3::new(0.0, self.min_units as f64 / 65536.0 - widened, 0.0) - m,
-            DVec3::new(
-                (self.width - 1) as f64,
-                self.max_units as f64 / 65536.0 + widened,
-                (self.depth - 1) as f64,
-            ) + m,
-        ))
-    }
-
-    /// How [`cull_corners`](Self::cull_corners) widens a grid box for a
-    /// camera at `from`: each axis by `m`, the height by `widened` more.
-    fn cull_widening(&self, from: DVec3) -> (DVec3, f64) {
         let map = &self.world_to_grid;
         let origin = map.exact.transform_point3(from);
         // `M·(p − c) + g`, term by term in magnitude.
@@ -777,10 +764,16 @@ impl<'a> HeightField<'a> {
         let m =
             (map.exact.matrix3.abs() * offset + map.anchor_grid.as_dvec3().abs() + origin.abs())
                 / 4096.0;
-        (
-            m,
-            1.0 / 64.0 + origin.y.abs() * 32.0 * f64::from(f32::EPSILON),
-        )
+        let widened = 1.0 / 64.0 + origin.y.abs() * 32.0 * f64::from(f32::EPSILON);
+        Some((
+            DVec3::new(0.0, self.min_units as f64 / 65536.0 - widened, 0.0) - m,
+            DVec3::new(
+                (self.width - 1) as f64,
+                self.max_units as f64 / 65536.0 + widened,
+                (self.depth - 1) as f64,
+            ) + m,
+            (m, widened),
+        ))
     }
 
     /// The blocks of the skip pyramid's finest level with at most `most`
@@ -795,8 +788,7 @@ impl<'a> HeightField<'a> {
         most: u64,
     ) -> Option<CullBlocks<impl Iterator<Item = GridBox> + '_>> {
         let skip = self.skip.as_ref()?;
-        let (lo, hi) = self.cull_box(from)?;
-        let (m, widened) = self.cull_widening(from);
+        let (lo, hi, (m, widened)) = self.cull_box(from)?;
         let (cells_u, cells_v) = (self.width - 1, self.depth - 1);
         let log2 = u32::from(skip.block_log2());
         let blocks = |level: u32| {
