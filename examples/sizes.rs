@@ -26,7 +26,7 @@ fn main() {
         ("ColumnHint", size_of::<hfray::ColumnHint>()),
         ("Camera", size_of::<Camera>()),
         (
-            "RayCull (per frame: the field box's hull and the skyline)",
+            "RayCull (per frame: the field box's hull, the skyline and the floor line)",
             size_of::<hfray::render::RayCull>(),
         ),
         ("RenderSettings", size_of::<RenderSettings>()),

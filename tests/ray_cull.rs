@@ -174,26 +174,51 @@ fn culled_rays_miss_with_no_work_and_trace_as_missed() {
     assert!(culled * 5 > rays, "{culled} of {rays} rays culled");
 }
 
-/// The skyline (a field with a skip pyramid): every ray left out above it
-/// finds nothing (its walk may count work: it crosses the field's box) and
-/// traces as missed.
+/// Whether the cull leaves out in-box pixel `(x, y)` above the first
+/// traced pixel of its column (the skyline) or below the last (the floor
+/// line): `None` if it traces it.
+fn left_out_in_the_box(cull: &RayCull, height: u32, x: u32, y: u32) -> Option<Side> {
+    if cull.row(y).contains(x) {
+        return None;
+    }
+    let traced_above = (0..y).any(|r| cull.row(r).contains(x));
+    let traced_below = (y + 1..height).any(|r| cull.row(r).contains(x));
+    Some(if traced_above && !traced_below {
+        Side::Below
+    } else {
+        Side::Above
+    })
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Side {
+    Above,
+    Below,
+}
+
+/// The skyline and the floor line (a field with a skip pyramid): every ray
+/// they leave out finds nothing (its walk may count work: it crosses the
+/// field's box) and traces as missed.
 #[test]
-fn rays_above_the_skyline_miss_and_trace_as_missed() {
-    let (mut rays, mut above) = (0u64, 0u64);
+fn rays_off_the_blocks_miss_and_trace_as_missed() {
+    let (mut rays, mut above, mut below) = (0u64, 0u64, 0u64);
     random_cases(0x5ca1_ab1e, true, |case, field, camera, tracer, cull| {
         for y in 0..camera.height() {
             let traced = cull.row(y);
             for x in traced.range.clone() {
                 rays += 1;
-                if traced.contains(x) {
+                let Some(side) = left_out_in_the_box(cull, camera.height(), x, y) else {
                     continue;
+                };
+                match side {
+                    Side::Above => above += 1,
+                    Side::Below => below += 1,
                 }
-                above += 1;
                 let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
                 let hit = field.intersect(&cam.walk, 0.0, f32::INFINITY);
                 assert!(
                     hit.is_none(),
-                    "case {case}: pixel ({x}, {y}) above the skyline, but {hit:?}"
+                    "case {case}: pixel ({x}, {y}) left out ({side:?}), but {hit:?}"
                 );
                 let (traced_stats, missed_stats) =
                     assert_traces_as_missed(case, tracer, camera, x, y);
@@ -205,20 +230,20 @@ fn rays_above_the_skyline_miss_and_trace_as_missed() {
             }
         }
     });
-    // Within the field's box, the skyline leaves rays out too (random
-    // views mostly look into the field, or at it from afar).
+    // Within the field's box, both lines leave rays out (random views
+    // mostly look into the field, or at it from afar).
     assert!(
-        above * 200 > rays,
-        "{above} of {rays} rays in the box left out"
+        above * 200 > rays && below * 400 > rays,
+        "{above} above and {below} below of {rays} rays in the box left out"
     );
 }
 
 /// A terrain seen from above its edge, pitched down (the firmware's frames
-/// are such views): the skyline leaves out a good share of the rays that
-/// cross the field's box and miss (18% here; the firmware's base frame,
-/// 1,153 of 1,647), and every ray it leaves out misses.
+/// are such views): the skyline and the floor line leave out a good share
+/// of the rays that cross the field's box and miss, and every ray they
+/// leave out misses.
 #[test]
-fn a_pitched_view_leaves_out_the_sky_over_the_terrain() {
+fn a_pitched_view_leaves_out_the_sky_and_the_ground_under_the_near_edge() {
     let mut rng = Rng::new(0x51c1_7e11);
     let (w, d) = (87, 61);
     let data = terrain(&mut rng, w, d);
@@ -244,21 +269,62 @@ fn a_pitched_view_leaves_out_the_sky_over_the_terrain() {
     let camera = Camera::new(&model.camera, width, height).unwrap();
     let tracer = Tracer::new(&model, &fields).unwrap();
     let cull = tracer.ray_cull(&camera, Some(0..camera.height()));
-    let (mut sky, mut left_out) = (0u32, 0u32);
+    let (mut sky, mut left_out, mut below) = (0u32, 0u32, 0u32);
     for y in 0..height {
         let traced = cull.row(y);
         for x in traced.range.clone() {
             let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
             let hit = fields[0].intersect(&cam.walk, 0.0, f32::INFINITY);
             sky += hit.is_none() as u32;
-            if !traced.contains(x) {
+            if let Some(side) = left_out_in_the_box(&cull, height, x, y) {
                 left_out += 1;
+                below += (side == Side::Below) as u32;
                 assert!(hit.is_none(), "pixel ({x}, {y}) left out, but {hit:?}");
             }
         }
     }
     assert!(
-        left_out * 8 > sky,
-        "{left_out} of the {sky} rays in the box that miss left out"
+        left_out * 3 > sky && below * 5 > sky,
+        "{left_out} ({below} below the floor line) of the {sky} rays in the box that miss left out"
     );
+}
+
+/// An image taller than a `u16` row number: the floor line, kept in `u16`,
+/// once left out every row from 65,535 on. A view whose lowest rows see the
+/// field's near edge.
+#[test]
+fn regression_rows_past_u16_max_are_not_left_out() {
+    let mut rng = Rng::new(0x7a11);
+    let (w, d) = (33, 33);
+    let data = terrain(&mut rng, w, d);
+    let field = HeightField::new(Samples::U8(&data), w, d, HeightConvention::Gray8).unwrap();
+    let layout = SkipLayout::pyramid(w, d, 2);
+    let mut skip = vec![0; SkipGrid::bytes_needed_for(&field, layout).unwrap()];
+    SkipGrid::build(&field, layout, &mut skip).unwrap();
+    let fields = [field.with_skip(&skip).unwrap()];
+    let (width, height) = (3, 70_000);
+    let model = scene(
+        CameraDesc {
+            location: Vec3::new(0.5, 0.5, -3.0),
+            look_at: Vec3::new(0.5, 0.823, 0.5),
+            // Tall pixels: 20° down the image, 0.02° across.
+            right: Vec3::new(0.001, 0.0, 0.0),
+            angle: Some(0.0202),
+            ..CameraDesc::default()
+        },
+        Vec3::new(0.5, 0.7, 0.9),
+        5,
+    );
+    let camera = Camera::new(&model.camera, width, height).unwrap();
+    let tracer = Tracer::new(&model, &fields).unwrap();
+    let cull = tracer.ray_cull(&camera, Some(0..camera.height()));
+    let mut hits_past = 0;
+    for y in (65_000..height).step_by(7) {
+        let cam = camera.camera_ray(0.5, y as f32 + 0.5);
+        if fields[0].intersect(&cam.walk, 0.0, f32::INFINITY).is_some() {
+            hits_past += (y >= u32::from(u16::MAX)) as u32;
+            assert!(cull.row(y).contains(0), "pixel (0, {y}) hits, but left out");
+        }
+    }
+    assert!(hits_past > 100, "{hits_past} rows past 65,535 hit");
 }
