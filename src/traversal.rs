@@ -1639,7 +1639,9 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     let t_max = if t_max.is_finite() { t_max } else { f32::MAX };
     let t_far = Real::min(Real::min(Real::min(t_max, far.x), far.y), far.z);
     let mut walk = Walk::new(field, *o, *d, au, av, t_far, water, true);
-    let above = above && !walk.wet;
+    // (`compact` builds have no `ABOVE` builds: `false`, folded, costs them
+    // nothing; the Cortex-M0's `full` frame took 0.03% more with the flag.)
+    let above = TWO_BUILDS && above && !walk.wet;
     walk.walk_from_entry(field, start.i, start.j, 0.0, above, counters)
 }
 
@@ -2432,8 +2434,12 @@ impl<S: Real> Walk<S> {
     /// `shadow_walk_from_the_footprint_is_nearest`.
     ///
     /// Measured (bench512, callgrind, as in `examples/bench.rs` (g)): a
-    /// shadow ray with its shading 3,032 -> 2,908 instructions, a ray of the
-    /// full render 1,721 -> 1,682, a primary ray 1,094 -> 1,095. Only rising
+    /// shadow ray with its shading 3,032 -> 2,907 instructions, a ray of the
+    /// full render 1,721 -> 1,680, a primary ray 1,094 -> 1,092; frames
+    /// (`run-qemu.sh`) Cortex-M4F base 11.82 -> 11.54 M, lcd 45.84 ->
+    /// 45.01 M, thesis (three levels, one build for every sign on bare
+    /// metal, so no `ABOVE` build) 215.70 -> 216.06 M; i486 base 17.98 ->
+    /// 17.67 M, lcd 69.91 -> 69.68 M, thesis 294.26 -> 291.30 M. Only rising
     /// rays (a light above the surface, the usual shadow ray) get builds of
     /// their own; the others take the exact walk.
     #[allow(clippy::too_many_arguments)]
