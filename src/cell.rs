@@ -160,6 +160,66 @@ impl<S: Real> Cell<'_, S> {
     }
 }
 
+impl<S: Real> Cell<'_, S> {
+    /// The `(fu, fv)` of [`point`](Self::point) at parameter `t` and
+    /// `place`, by the same expressions, without the height.
+    #[cfg_attr(not(feature = "compact"), inline(always))]
+    #[cfg_attr(feature = "compact", inline)]
+    pub fn place_uv(&self, t: S, place: Place) -> (S, S) {
+        let (origin, dir) = (self.origin, self.dir);
+        let u = || clamp01(origin[0] + t * dir[0] - self.cu);
+        let v = || clamp01(origin[2] + t * dir[2] - self.cv);
+        let (zero, one) = (S::ZERO, S::ONE);
+        match place {
+            Place::Interior => (u(), v()),
+            Place::EdgeU(side) => (if side { one } else { zero }, v()),
+            Place::EdgeV(side) => (u(), if side { one } else { zero }),
+            Place::Vertex(su, sv) => (if su { one } else { zero }, if sv { one } else { zero }),
+        }
+    }
+
+    /// Whether [`first_crossing`](Self::first_crossing) finds a crossing
+    /// between a point `a` at `t_a`, at `(fu_a, fv_a)`, where `g > 0`, and
+    /// `b`, on a field without water (`wet` false): the same answer, and
+    /// the same count of triangle pieces in `tests`, without `a`'s height
+    /// or the crossing's point.
+    ///
+    /// Why. Without water, `piece` from `p` with `p.g > 0` has a crossing
+    /// exactly when `q.g ≤ 0` (its second test; the water test is skipped).
+    /// Without a diagonal crossing that is `b.g ≤ 0`, one piece counted;
+    /// with one, the piece from `a` to the diagonal's sample `d` has a
+    /// crossing exactly when `d.g ≤ 0` (one piece counted), else the piece
+    /// from `d` (`d.g > 0`) has one exactly when `b.g ≤ 0` (two counted).
+    /// `s_a`, `s_b` and `d` are computed as `first_crossing` computes them
+    /// (`a.t` is `t_a`).
+    #[cfg_attr(not(feature = "compact"), inline(always))]
+    #[cfg_attr(feature = "compact", inline)]
+    pub fn crosses_from_above(
+        &self,
+        t_a: S,
+        (fu_a, fv_a): (S, S),
+        b: &BoundaryPoint<S>,
+        tests: &mut u64,
+    ) -> bool {
+        let s_a = fu_a + fv_a - S::ONE;
+        let s_b = b.fu + b.fv - S::ONE;
+        let crosses_diagonal = (s_a < S::ZERO && s_b > S::ZERO) || (s_a > S::ZERO && s_b < S::ZERO);
+        *tests += 1;
+        if crosses_diagonal {
+            let lambda = s_a / (s_a - s_b);
+            let t_d = lerp_t(t_a, b.t, lambda);
+            let fu_d = clamp01(self.origin[0] + t_d * self.dir[0] - self.cu);
+            let c = &self.corners;
+            let h_d = c.h01 + fu_d * (c.h10 - c.h01);
+            if self.origin[1] + t_d * self.dir[1] - h_d <= S::ZERO {
+                return true;
+            }
+            *tests += 1;
+        }
+        b.g <= S::ZERO
+    }
+}
+
 /// A crossing found inside a cell.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Crossing<S> {

@@ -1339,7 +1339,7 @@ impl<'a> HeightField<'a> {
                 } else {
                     None
                 };
-                self.occludes_grid(&g, start, t_min, t_max, counters)
+                self.occludes_grid(&g, start, t_min, t_max, false, counters)
             }
             #[cfg(feature = "f64-walk")]
             Numeric::F64 => self
@@ -1360,7 +1360,10 @@ impl<'a> HeightField<'a> {
     /// ray in `f32` (`grid_ray` of its origin and direction) and, if its
     /// origin lies over the footprint, the start of its walk
     /// (`FootprintStart::of` that grid ray) the caller has made already:
-    /// the `f32` walk takes them as they are.
+    /// the `f32` walk takes them as they are. `above`: the caller checked
+    /// that the walk's first sample is strictly above the surface (the
+    /// shading's offset check), which the walk may use
+    /// (`traversal::nearest_from_footprint`).
     #[inline]
     pub(crate) fn occludes_mapped(
         &self,
@@ -1368,10 +1371,11 @@ impl<'a> HeightField<'a> {
         grid: &GridRay<f32>,
         start: Option<FootprintStart>,
         t_max: f32,
+        above: bool,
         counters: &mut Counters,
     ) -> bool {
         if self.numeric == Numeric::F32 {
-            self.occludes_grid(grid, start, 0.0, t_max, counters)
+            self.occludes_grid(grid, start, 0.0, t_max, above, counters)
         } else {
             self.occludes(ray, 0.0, t_max, counters)
         }
@@ -1388,10 +1392,13 @@ impl<'a> HeightField<'a> {
         start: Option<FootprintStart>,
         t_min: f32,
         t_max: f32,
+        above: bool,
         counters: &mut Counters,
     ) -> bool {
         match start {
-            Some(start) => traversal::nearest_from_footprint(self, grid, start, t_max, counters),
+            Some(start) => {
+                traversal::nearest_from_footprint(self, grid, start, t_max, above, counters)
+            }
             None => traversal::nearest(self, grid, t_min, t_max, true, counters),
         }
         .is_some()
@@ -2170,7 +2177,7 @@ mod tests {
         let mut rng = 0x5ad0_u64;
         let rough: [u8; 13 * 11] = core::array::from_fn(|_| lcg(&mut rng) as u8);
         let flat = [77u8; 13 * 11];
-        let mut compared = 0;
+        let (mut compared, mut above_compared) = (0, 0);
         for (samples, water) in [(&rough, 0.0), (&rough, 0.4), (&flat, 0.0)] {
             let base = HeightField::new(Samples::U8(samples), 13, 11, HeightConvention::Gray8)
                 .unwrap()
@@ -2237,8 +2244,14 @@ mod tests {
                 for field in &fields {
                     let (mut want_work, mut got_work) = (Counters::default(), Counters::default());
                     let want = traversal::nearest(field, &g, 0.0, t_max, true, &mut want_work);
-                    let got =
-                        traversal::nearest_from_footprint(field, &g, start, t_max, &mut got_work);
+                    let got = traversal::nearest_from_footprint(
+                        field,
+                        &g,
+                        start,
+                        t_max,
+                        false,
+                        &mut got_work,
+                    );
                     let bits = |h: &Option<GridHit<f32>>| {
                         h.map(|h| {
                             (
@@ -2254,10 +2267,32 @@ mod tests {
                     assert_eq!(got.map(|h| h.triangle), want.map(|h| h.triangle));
                     assert_eq!(got_work, want_work, "{g:?} {t_max}");
                     compared += 1;
+                    // The offset check's test (`shading::checked_start`): the
+                    // walk's first sample strictly above the surface; then
+                    // the walk that knows it (`above`) gives the same answer.
+                    let (x, z) = start.cell();
+                    let c =
+                        Corners::<f32>::from_raw(field.cell_raw(x, z), field.units_per_sample());
+                    let fu = (origin[0] - x as f32).clamp(0.0, 1.0);
+                    let fv = (origin[2] - z as f32).clamp(0.0, 1.0);
+                    if origin[1] - c.plane_height(fu, fv) > 0.0 {
+                        let mut above_work = Counters::default();
+                        let above = traversal::nearest_from_footprint(
+                            field,
+                            &g,
+                            start,
+                            t_max,
+                            true,
+                            &mut above_work,
+                        );
+                        assert_eq!(above.is_some(), want.is_some(), "above {g:?} {t_max}");
+                        above_compared += 1;
+                    }
                 }
             }
         }
         assert!(compared > 150_000, "{compared}");
+        assert!(above_compared > 30_000, "{above_compared}");
     }
 
     #[test]

@@ -1234,13 +1234,16 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             return light.color;
         }
         let ray = Ray::new(origin, l);
+        // The offset check put the origin strictly above the surface at
+        // the walk's first sample when the ray leaves the surface's upper
+        // side (`offset_mapped`'s `side`, the same test).
+        let above = l.dot(hit.normal) >= 0.0;
         for o in self.objects.iter().filter(|o| o.opaque) {
             let blocked = match &mapped {
                 // The field the ray leaves: `offset_mapped` has its grid ray
                 // and start.
-                Some((g, start)) if core::ptr::eq(o, obj) => {
-                    self.fields[o.field_index].occludes_mapped(&ray, g, *start, t_max, counters)
-                }
+                Some((g, start)) if core::ptr::eq(o, obj) => self.fields[o.field_index]
+                    .occludes_mapped(&ray, g, *start, t_max, above, counters),
                 _ => o.placed.occludes(&ray, 0.0, t_max, self.fields, counters),
             };
             if blocked {

@@ -640,7 +640,7 @@ impl<S: Real> Walk<S> {
     /// parameter of the field's far edge on that axis, computed by the same
     /// expression (monotone in the line), so the line is not past that edge.
     #[inline(always)]
-    fn visit<const MOVING: bool, F: WalkGrid>(
+    fn visit<const MOVING: bool, const ABOVE: bool, F: WalkGrid>(
         &self,
         field: &F,
         c: &mut Cursor<S>,
@@ -672,9 +672,13 @@ impl<S: Real> Walk<S> {
         let y_b = o[1] + t_b * d[1];
         // `y` is never NaN (finite ray, finite `t`): the ordered pair.
         let (y_low, y_high) = self.y_range(y_a, y_b);
+        // `ABOVE` (see `Walk::above`): the ray is above the surface at the
+        // cell's entry, so not below the cell's lowest corner, unless the
+        // entry is the ray's start, whose plane may round below it.
         let culled = y_low > S::from_raw_height(r_max, mult)
-            || y_high < S::from_raw_height(r_min, mult)
-            || (self.wet && (r_max * mult < self.water_units || y_high < self.water));
+            || ((!ABOVE || c.entry == Place::Interior)
+                && (y_high < S::from_raw_height(r_min, mult)
+                    || (self.wet && (r_max * mult < self.water_units || y_high < self.water))));
         if !culled {
             let cell = Cell {
                 origin: &self.o,
@@ -684,23 +688,48 @@ impl<S: Real> Walk<S> {
                 corners: Corners::from_raw(raw, mult),
                 water: self.water,
             };
-            let a = cell.point_at(t_a, y_a, c.entry);
-            let exit_place = match exit {
-                Exit::U => Place::EdgeU(au.step > 0),
-                Exit::V => Place::EdgeV(av.step > 0),
-                Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
-                Exit::End => Place::Interior,
-            };
-            let b = cell.point_at(t_b, y_b, exit_place);
-            if let Some(hit) = cell.first_crossing(&a, &b, self.wet, &mut counters.triangle_tests) {
-                *stop = Some(c.resume());
-                return Visit::Hit(GridHit {
-                    t: hit.t,
-                    cell_x: i as u32,
-                    cell_z: j as u32,
-                    triangle: hit.triangle,
-                    local: (hit.fu, hit.fv),
-                });
+            if ABOVE {
+                // The entry's `g` is known to be positive: only its place.
+                let a = cell.place_uv(t_a, c.entry);
+                let exit_place = match exit {
+                    Exit::U => Place::EdgeU(au.step > 0),
+                    Exit::V => Place::EdgeV(av.step > 0),
+                    Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
+                    Exit::End => Place::Interior,
+                };
+                let b = cell.point_at(t_b, y_b, exit_place);
+                if cell.crosses_from_above(t_a, a, &b, &mut counters.triangle_tests) {
+                    *stop = Some(c.resume());
+                    // Any hit: the cell, not the crossing.
+                    return Visit::Hit(GridHit {
+                        t: t_a,
+                        cell_x: i as u32,
+                        cell_z: j as u32,
+                        triangle: Triangle::A,
+                        local: (S::ZERO, S::ZERO),
+                    });
+                }
+            } else {
+                let a = cell.point_at(t_a, y_a, c.entry);
+                let exit_place = match exit {
+                    Exit::U => Place::EdgeU(au.step > 0),
+                    Exit::V => Place::EdgeV(av.step > 0),
+                    Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
+                    Exit::End => Place::Interior,
+                };
+                let b = cell.point_at(t_b, y_b, exit_place);
+                if let Some(hit) =
+                    cell.first_crossing(&a, &b, self.wet, &mut counters.triangle_tests)
+                {
+                    *stop = Some(c.resume());
+                    return Visit::Hit(GridHit {
+                        t: hit.t,
+                        cell_x: i as u32,
+                        cell_z: j as u32,
+                        triangle: hit.triangle,
+                        local: (hit.fu, hit.fv),
+                    });
+                }
             }
         }
         match exit {
@@ -752,7 +781,7 @@ impl<S: Real> Walk<S> {
         by_sample_type!(TYPED_INSIDE, field => {
             for _ in 0..max_steps {
                 counters.cells += 1;
-                match self.visit::<MOVING, _>(field, &mut c, stop, counters) {
+                match self.visit::<MOVING, false, _>(field, &mut c, stop, counters) {
                     Visit::Hit(h) => return Some(h),
                     Visit::Miss => return None,
                     Visit::Next => {}
@@ -854,7 +883,7 @@ impl<S: Real> Walk<S> {
                 level -= 1;
             }
             counters.cells += 1;
-            match self.visit::<false, F>(field, &mut c, stop, counters) {
+            match self.visit::<false, false, F>(field, &mut c, stop, counters) {
                 Visit::Hit(h) => return Some(h),
                 Visit::Miss => return None,
                 Visit::Next => {}
@@ -900,6 +929,7 @@ impl<S: Real> Walk<S> {
         const SU: i32,
         const SV: i32,
         const RISING: bool,
+        const ABOVE: bool,
         F: WalkGrid,
     >(
         &self,
@@ -920,7 +950,7 @@ impl<S: Real> Walk<S> {
         by_sample_type!(TYPED_INSIDE, field => {
             if SU == 0 && SV == 0 {
                 return self
-                .walk_hdda_in::<MOVING, LEVEL1, _>(field, skip, top, start, stop, counters);
+                .walk_hdda_in::<MOVING, LEVEL1, ABOVE, _>(field, skip, top, start, stop, counters);
             }
             let signed = |a: Axis<S>, step: i32| match step {
                 0 => a,
@@ -936,13 +966,13 @@ impl<S: Real> Walk<S> {
                 rising: RISING,
                 ..*self
             };
-            walk.walk_hdda_in::<MOVING, LEVEL1, _>(field, skip, top, start, stop, counters)
+            walk.walk_hdda_in::<MOVING, LEVEL1, ABOVE, _>(field, skip, top, start, stop, counters)
         })
     }
 
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn walk_hdda_in<const MOVING: bool, const LEVEL1: bool, F: WalkGrid>(
+    fn walk_hdda_in<const MOVING: bool, const LEVEL1: bool, const ABOVE: bool, F: WalkGrid>(
         &self,
         field: &F,
         skip: &SkipGrid<'_>,
@@ -999,7 +1029,7 @@ impl<S: Real> Walk<S> {
             while level == 0 {
                 cells += 1;
                 let (pi, pj) = (c.i, c.j);
-                match self.visit::<MOVING, F>(field, &mut c, stop, counters) {
+                match self.visit::<MOVING, ABOVE, F>(field, &mut c, stop, counters) {
                     Visit::Hit(h) => break 'walk Some(h),
                     Visit::Miss => break 'walk None,
                     Visit::Next => {}
@@ -1057,9 +1087,13 @@ impl<S: Real> Walk<S> {
                 let (y_low, y_high) = self.y_range(y_a, y_b);
                 let (bi, bj) = (c.i >> shift, c.j >> shift);
                 let (lo, hi) = field.block_bounds(skip, block_level, bi as u32, bj as u32);
+                // `ABOVE`: above the surface at the block's entry, so not
+                // below its lowest sample (see `Walk::above`).
                 let culled = y_low > S::from_raw_height(hi, mult)
-                    || y_high < S::from_raw_height(lo, mult)
-                    || (self.wet && (hi * mult < self.water_units || y_high < self.water));
+                    || (!ABOVE
+                        && (y_high < S::from_raw_height(lo, mult)
+                            || (self.wet
+                                && (hi * mult < self.water_units || y_high < self.water))));
                 if !culled {
                     if !exact {
                         c = self.locate::<MOVING>(
@@ -1551,6 +1585,12 @@ impl FootprintStart {
 /// `nearest`. Checked against `nearest`, hits and work counters, by the
 /// unit test `shadow_walk_from_the_footprint_is_nearest`.
 ///
+/// `above`: the caller's offset check found the ray's first sample strictly
+/// above the surface (as `shading::checked_start` computes it); on a field
+/// without water the walk then needs only a yes/no, which it finds with less
+/// work (`Walk::walk_hdda_moving`, which proves it the same): the hit
+/// returned then names the cell only. Without it, `nearest`'s hit.
+///
 /// (Measured on bench512 and not taken: `walk_from`'s strictness tests in
 /// the same vector lanes, through a second copy of its dispatch, 2.7
 /// instructions a pixel fewer.)
@@ -1560,6 +1600,7 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     ray: &GridRay<f32>,
     start: FootprintStart,
     t_max: f32,
+    above: bool,
     counters: &mut Counters,
 ) -> Option<GridHit<f32>> {
     let (o, d) = (&ray.origin, &ray.direction);
@@ -1598,7 +1639,10 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     let t_max = if t_max.is_finite() { t_max } else { f32::MAX };
     let t_far = Real::min(Real::min(Real::min(t_max, far.x), far.y), far.z);
     let mut walk = Walk::new(field, *o, *d, au, av, t_far, water, true);
-    walk.walk_from_entry(field, start.i, start.j, 0.0, counters)
+    // (`compact` builds have no `ABOVE` builds: `false`, folded, costs them
+    // nothing; the Cortex-M0's `full` frame took 0.03% more with the flag.)
+    let above = TWO_BUILDS && above && !walk.wet;
+    walk.walk_from_entry(field, start.i, start.j, 0.0, above, counters)
 }
 
 /// The walk's axis of each direction component.
@@ -1922,7 +1966,7 @@ fn walk_over<S: Real, F: WalkGrid>(
         (Some(previous), Some(column)) => walk.walk_in_column(
             field, &previous, column, t_min, t_max, i, j, t_near, counters,
         ),
-        _ => walk.walk_from_entry(field, i, j, t_near, counters),
+        _ => walk.walk_from_entry(field, i, j, t_near, false, counters),
     }
 }
 
@@ -1997,20 +2041,29 @@ impl<S: Real> Walk<S> {
             t_a: t_near,
             entry: Place::Interior,
         };
-        self.walk_from(field, start, &mut None, counters)
+        self.walk_from(field, start, &mut None, false, counters)
     }
 
     /// The walk from cell `(i, j)`, entered from inside at `t_near` (where
-    /// the ray enters the field's box), in `field`'s mode.
+    /// the ray enters the field's box), in `field`'s mode; `above`: a
+    /// shadow ray whose first sample is strictly above the surface, over a
+    /// field without water (see `Walk::walk_hdda_moving`).
     pub(crate) fn walk_from_entry<F: WalkGrid>(
         &mut self,
         field: &F,
         i: i32,
         j: i32,
         t_near: S,
+        above: bool,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
-        self.walk_from_entry_inline(field, i, j, t_near, counters)
+        let start = Resume {
+            i,
+            j,
+            t_a: t_near,
+            entry: Place::Interior,
+        };
+        self.walk_from(field, start, &mut None, above, counters)
     }
 
     /// Where the walk from cell `(i, j)`, entered from inside at `t_near`,
@@ -2141,10 +2194,10 @@ impl<S: Real> Walk<S> {
                 if TWO_BUILDS && hdda_counts_fit(self, 1) =>
             {
                 by_sample_type!(!TYPED_INSIDE, field => {
-                    self.walk_hdda_moving(field, skip, 1, start, &mut None, counters)
+                    self.walk_hdda_moving(field, skip, 1, start, &mut None, false, counters)
                 })
             }
-            _ => self.walk_from(field, start, &mut None, counters),
+            _ => self.walk_from(field, start, &mut None, false, counters),
         }
     }
 
@@ -2238,8 +2291,8 @@ impl<S: Real> Walk<S> {
         let mut stop = None;
         let hit = match line.filter(|_| !start.resumed) {
             Some(LineStart::Past) => None,
-            Some(LineStart::At(at)) => self.walk_from(field, at, &mut stop, counters),
-            _ => self.walk_from(field, start.at, &mut stop, counters),
+            Some(LineStart::At(at)) => self.walk_from(field, at, &mut stop, false, counters),
+            _ => self.walk_from(field, start.at, &mut stop, false, counters),
         };
         if start.keep {
             *column = ColumnState {
@@ -2268,6 +2321,7 @@ impl<S: Real> Walk<S> {
         field: &F,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
+        above: bool,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
         let skip = match (field.traversal(), field.skip()) {
@@ -2300,11 +2354,11 @@ impl<S: Real> Walk<S> {
             if u_strict && v_strict && hdda_counts_fit(self, top) {
                 return if TWO_BUILDS && au.step != 0 && av.step != 0 {
                     by_sample_type!(!TYPED_INSIDE, field => {
-                        self.walk_hdda_moving(field, skip, top, start, stop, counters)
+                        self.walk_hdda_moving(field, skip, top, start, stop, above, counters)
                     })
                 } else {
                     by_sample_type!(!TYPED_INSIDE, field => {
-                        self.walk_hdda::<false, false, 0, 0, false, _>(
+                        self.walk_hdda::<false, false, 0, 0, false, false, _>(
                             field, skip, top, start, stop, counters,
                         )
                     })
@@ -2339,6 +2393,55 @@ impl<S: Real> Walk<S> {
     /// both walks took 46 KB of the Cortex-M4F's flash; the firmware's
     /// `base` and `lcd` fields walk level 1 only, in a build for each sign
     /// of both steps and of `d_y`).
+    ///
+    /// `above` (rising shadow rays, in those builds by sign): the walk of a
+    /// ray whose first sample (the start cell's, at `t = 0`, `Interior`) is
+    /// strictly above the surface, on a field without water (`wet` false),
+    /// started at the cells ([`nearest_from_footprint`]), in builds
+    /// (`ABOVE`) that answer only whether there is a hit, as the exact walk
+    /// would, with less work:
+    /// - the culls drop their "below" half (and the water tests) except in
+    ///   the start cell;
+    /// - a tested cell does not compute its entry's height, and finds
+    ///   whether it has a crossing, not where
+    ///   ([`Cell::crosses_from_above`]); the hit returned names the cell
+    ///   only (`t` is the cell's entry), for a yes/no.
+    ///
+    /// Why the answer is the exact walk's. Heights are whole multiples of
+    /// 2⁻¹⁶ below 2²⁴ of them, exact in `f32`, and so are their
+    /// differences; a sample on an edge, `lo + f·(hi − lo)` with `f` in
+    /// `[0, 1]`, then lies between `lo` and `hi` (each rounding is
+    /// monotone), and a sample at a vertex is the vertex's: every sample
+    /// but the ray's start and end (`Interior`, a plane through three
+    /// corners, which may round past them) is within its cell's lowest and
+    /// highest corners. Claim: in the flat walk, every cell visited before
+    /// the first hit is entered with `g > 0`. The first is (the offset
+    /// check). A cell entered with `g > 0` at an edge or vertex is not
+    /// culled as below: the ray there is above a sample that is at least
+    /// the lowest corner, and the higher end of its range is at least that
+    /// (so dropping the "below" test changes nothing; the start cell keeps
+    /// it). Culled as above, its exit is above its highest corner, so the
+    /// exit's `g > 0`; tested without a hit on a dry field, its samples all
+    /// have the sign of its entry (a piece from a positive sample has a
+    /// crossing exactly when the next is `≤ 0`), so again the exit's `g > 0`;
+    /// and the next cell's entry is that same sample, computed from the
+    /// same shared edge by the same arithmetic (the crack-free property).
+    /// The hierarchical walk visits the same cells with the same entries,
+    /// skipping blocks the cell cull would have culled cell by cell (so,
+    /// by the claim, as above), and a block entered with `g > 0` at its
+    /// first cell's entry is not below its lowest sample either. Checked
+    /// against `nearest` by the unit test
+    /// `shadow_walk_from_the_footprint_is_nearest`.
+    ///
+    /// Measured (bench512, callgrind, as in `examples/bench.rs` (g)): a
+    /// shadow ray with its shading 3,032 -> 2,907 instructions, a ray of the
+    /// full render 1,721 -> 1,680, a primary ray 1,094 -> 1,092; frames
+    /// (`run-qemu.sh`) Cortex-M4F base 11.82 -> 11.54 M, lcd 45.84 ->
+    /// 45.01 M, thesis (three levels, one build for every sign on bare
+    /// metal, so no `ABOVE` build) 215.70 -> 216.06 M; i486 base 17.98 ->
+    /// 17.67 M, lcd 69.91 -> 69.68 M, thesis 294.26 -> 291.30 M. Only rising
+    /// rays (a light above the surface, the usual shadow ray) get builds of
+    /// their own; the others take the exact walk.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn walk_hdda_moving<F: WalkGrid>(
@@ -2348,25 +2451,31 @@ impl<S: Real> Walk<S> {
         top: u8,
         start: Resume<S>,
         stop: &mut Option<Resume<S>>,
+        above: bool,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
         let by_sign = !S::ALL_FINITE && (top == 1 || !cfg!(target_os = "none"));
         macro_rules! build {
             ($level1:expr, $su:expr, $sv:expr) => {
-                if self.rising {
-                    self.walk_hdda::<true, $level1, $su, $sv, true, F>(
+                if self.rising && above {
+                    self.walk_hdda::<true, $level1, $su, $sv, true, true, F>(
+                        field, skip, top, start, stop, counters,
+                    )
+                } else if self.rising {
+                    self.walk_hdda::<true, $level1, $su, $sv, true, false, F>(
                         field, skip, top, start, stop, counters,
                     )
                 } else {
-                    self.walk_hdda::<true, $level1, $su, $sv, false, F>(
+                    self.walk_hdda::<true, $level1, $su, $sv, false, false, F>(
                         field, skip, top, start, stop, counters,
                     )
                 }
             };
         }
         match (by_sign, top == 1, self.au.step > 0, self.av.step > 0) {
-            (false, ..) => self
-                .walk_hdda::<true, false, 0, 0, false, F>(field, skip, top, start, stop, counters),
+            (false, ..) => self.walk_hdda::<true, false, 0, 0, false, false, F>(
+                field, skip, top, start, stop, counters,
+            ),
             (true, true, true, true) => build!(true, 1, 1),
             (true, true, true, false) => build!(true, 1, -1),
             (true, true, false, true) => build!(true, -1, 1),
