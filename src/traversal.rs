@@ -226,6 +226,20 @@ enum Exit {
     End,
 }
 
+impl Exit {
+    /// Where on the cell the walk leaves it, given the steps' signs along
+    /// `u` and `v` (`true`: forwards).
+    #[inline(always)]
+    fn place(self, forward_u: bool, forward_v: bool) -> Place {
+        match self {
+            Exit::U => Place::EdgeU(forward_u),
+            Exit::V => Place::EdgeV(forward_v),
+            Exit::Corner => Place::Vertex(forward_u, forward_v),
+            Exit::End => Place::Interior,
+        }
+    }
+}
+
 /// How the walk crosses the field.
 ///
 /// Every mode returns bit-identical hits (`tests/modes.rs` checks it on
@@ -691,12 +705,7 @@ impl<S: Real> Walk<S> {
             if ABOVE {
                 // The entry's `g` is known to be positive: only its place.
                 let a = cell.place_uv(t_a, c.entry);
-                let exit_place = match exit {
-                    Exit::U => Place::EdgeU(au.step > 0),
-                    Exit::V => Place::EdgeV(av.step > 0),
-                    Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
-                    Exit::End => Place::Interior,
-                };
+                let exit_place = exit.place(au.step > 0, av.step > 0);
                 let b = cell.point_at(t_b, y_b, exit_place);
                 if cell.crosses_from_above(t_a, a, &b, &mut counters.triangle_tests) {
                     *stop = Some(c.resume());
@@ -711,12 +720,7 @@ impl<S: Real> Walk<S> {
                 }
             } else {
                 let a = cell.point_at(t_a, y_a, c.entry);
-                let exit_place = match exit {
-                    Exit::U => Place::EdgeU(au.step > 0),
-                    Exit::V => Place::EdgeV(av.step > 0),
-                    Exit::Corner => Place::Vertex(au.step > 0, av.step > 0),
-                    Exit::End => Place::Interior,
-                };
+                let exit_place = exit.place(au.step > 0, av.step > 0);
                 let b = cell.point_at(t_b, y_b, exit_place);
                 if let Some(hit) =
                     cell.first_crossing(&a, &b, self.wet, &mut counters.triangle_tests)
