@@ -119,37 +119,20 @@ impl<S: Real> Cell<'_, S> {
     #[cfg_attr(not(feature = "compact"), inline(always))]
     #[cfg_attr(feature = "compact", inline)]
     pub fn point_at(&self, t: S, y: S, place: Place) -> BoundaryPoint<S> {
-        let (origin, dir, c) = (self.origin, self.dir, &self.corners);
-        let u = || clamp01(origin[0] + t * dir[0] - self.cu);
-        let v = || clamp01(origin[2] + t * dir[2] - self.cv);
+        let c = &self.corners;
+        let (fu, fv) = self.place_uv(t, place);
         // One arm per edge and vertex, each naming its corners: no
         // selection between corner pairs at run time.
-        let (zero, one) = (S::ZERO, S::ONE);
-        let (fu, fv, h) = match place {
-            Place::Interior => {
-                let (fu, fv) = (u(), v());
-                (fu, fv, c.plane_height(fu, fv))
-            }
-            Place::EdgeU(false) => {
-                let fv = v();
-                (zero, fv, along(c.h00, c.h01, fv))
-            }
-            Place::EdgeU(true) => {
-                let fv = v();
-                (one, fv, along(c.h10, c.h11, fv))
-            }
-            Place::EdgeV(false) => {
-                let fu = u();
-                (fu, zero, along(c.h00, c.h10, fu))
-            }
-            Place::EdgeV(true) => {
-                let fu = u();
-                (fu, one, along(c.h01, c.h11, fu))
-            }
-            Place::Vertex(false, false) => (zero, zero, c.h00),
-            Place::Vertex(true, false) => (one, zero, c.h10),
-            Place::Vertex(false, true) => (zero, one, c.h01),
-            Place::Vertex(true, true) => (one, one, c.h11),
+        let h = match place {
+            Place::Interior => c.plane_height(fu, fv),
+            Place::EdgeU(false) => along(c.h00, c.h01, fv),
+            Place::EdgeU(true) => along(c.h10, c.h11, fv),
+            Place::EdgeV(false) => along(c.h00, c.h10, fu),
+            Place::EdgeV(true) => along(c.h01, c.h11, fu),
+            Place::Vertex(false, false) => c.h00,
+            Place::Vertex(true, false) => c.h10,
+            Place::Vertex(false, true) => c.h01,
+            Place::Vertex(true, true) => c.h11,
         };
         BoundaryPoint {
             t,
@@ -162,7 +145,7 @@ impl<S: Real> Cell<'_, S> {
 
 impl<S: Real> Cell<'_, S> {
     /// The `(fu, fv)` of [`point`](Self::point) at parameter `t` and
-    /// `place`, by the same expressions, without the height.
+    /// `place`, without the height.
     #[cfg_attr(not(feature = "compact"), inline(always))]
     #[cfg_attr(feature = "compact", inline)]
     pub fn place_uv(&self, t: S, place: Place) -> (S, S) {
