@@ -1234,16 +1234,12 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             return light.color;
         }
         let ray = Ray::new(origin, l);
-        // The offset check put the origin strictly above the surface at
-        // the walk's first sample when the ray leaves the surface's upper
-        // side (`offset_mapped`'s `side`, the same test).
-        let above = l.dot(hit.normal) >= 0.0;
         for o in self.objects.iter().filter(|o| o.opaque) {
             let blocked = match &mapped {
                 // The field the ray leaves: `offset_mapped` has its grid ray
                 // and start.
-                Some((g, start)) if core::ptr::eq(o, obj) => self.fields[o.field_index]
-                    .occludes_mapped(&ray, g, *start, t_max, above, counters),
+                Some((g, start, above)) if core::ptr::eq(o, obj) => self.fields[o.field_index]
+                    .occludes_mapped(&ray, g, *start, t_max, *above, counters),
                 _ => o.placed.occludes(&ray, 0.0, t_max, self.fields, counters),
             };
             if blocked {
@@ -1318,7 +1314,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 let o = hit.point + obj.field_up * (delta * side);
                 let g = field.grid_ray(o.to_array(), dir.to_array());
                 if let Some(start) = checked_start(field, &g, side) {
-                    return (o, Some((g, start)));
+                    return (o, Some((g, start, side > 0.0)));
                 }
                 delta *= 2.0;
             }
@@ -1334,8 +1330,10 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
 }
 
 /// A ray from a height field's surface in the field's grid space (`f32`),
-/// with the start of its walk when its origin lies over the footprint.
-type GridStart = (GridRay<f32>, Option<FootprintStart>);
+/// with the start of its walk when its origin lies over the footprint, and
+/// whether the offset check found the walk's first sample strictly above
+/// the surface (the ray leaves its upper side).
+type GridStart = (GridRay<f32>, Option<FootprintStart>, bool);
 
 /// The offset check of `g` (a world ray in `field`'s grid space, `f32`):
 /// passed (`Some`) if the height-field walk of `g` sees the ray strictly on
