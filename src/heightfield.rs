@@ -2268,14 +2268,16 @@ mod tests {
                     assert_eq!(got_work, want_work, "{g:?} {t_max}");
                     compared += 1;
                     // The offset check's test (`shading::checked_start`): the
-                    // walk's first sample strictly above the surface; then
+                    // walk's first sample strictly above the surface, the
+                    // origin not below the cell's lowest corner; then
                     // the walk that knows it (`above`) gives the same answer.
                     let (x, z) = start.cell();
                     let c =
                         Corners::<f32>::from_raw(field.cell_raw(x, z), field.units_per_sample());
                     let fu = (origin[0] - x as f32).clamp(0.0, 1.0);
                     let fv = (origin[2] - z as f32).clamp(0.0, 1.0);
-                    if origin[1] - c.plane_height(fu, fv) > 0.0 {
+                    let lowest = c.h00.min(c.h10).min(c.h01).min(c.h11);
+                    if origin[1] - c.plane_height(fu, fv) > 0.0 && origin[1] >= lowest {
                         let mut above_work = Counters::default();
                         let above = traversal::nearest_from_footprint(
                             field,

@@ -85,6 +85,7 @@ use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
 use crate::packet::LANES;
 use crate::ray::{FieldHit, Ray};
+use crate::real::Real;
 use crate::render_error::{RenderError, MAX_AA};
 use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Projection, Scene, Shape};
 use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
@@ -1313,8 +1314,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             for _ in 0..FIELD_OFFSET_TRIES {
                 let o = hit.point + obj.field_up * (delta * side);
                 let g = field.grid_ray(o.to_array(), dir.to_array());
-                if let Some(start) = checked_start(field, &g, side) {
-                    return (o, Some((g, start, side > 0.0)));
+                if let Some((start, not_below)) = checked_start(field, &g, side) {
+                    return (o, Some((g, start, side > 0.0 && not_below)));
                 }
                 delta *= 2.0;
             }
@@ -1332,7 +1333,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
 /// A ray from a height field's surface in the field's grid space (`f32`),
 /// with the start of its walk when its origin lies over the footprint, and
 /// whether the offset check found the walk's first sample strictly above
-/// the surface (the ray leaves its upper side).
+/// the surface (the ray leaves its upper side) and the origin not below the
+/// start cell's lowest corner: the precondition of the walk that answers
+/// only yes or no (see `Walk::walk_hdda_moving`).
 type GridStart = (GridRay<f32>, Option<FootprintStart>, bool);
 
 /// The offset check of `g` (a world ray in `field`'s grid space, `f32`):
@@ -1341,25 +1344,33 @@ type GridStart = (GridRay<f32>, Option<FootprintStart>, bool);
 /// computed exactly as the walk computes it (same cell), with the start of
 /// that walk ([`FootprintStart`]); passed without a start when the origin
 /// is off the footprint (the walk then starts at the box's side, away from
-/// the hit).
+/// the hit). With the start: whether the origin is not below the start
+/// cell's lowest corner. A first sample above the surface usually implies
+/// it, but not always: the plane through three corners may round below
+/// the lowest of them, and an origin between the two is above the surface
+/// at its first sample and yet below the whole cell
+/// (`regression_shadow_origin_above_a_plane_rounded_below_its_corners`).
 #[inline(always)]
 fn checked_start(
     field: &HeightField<'_>,
     g: &GridRay<f32>,
     side: f32,
-) -> Option<Option<FootprintStart>> {
+) -> Option<(Option<FootprintStart>, bool)> {
     let Some(start) = FootprintStart::of(field, g) else {
-        return Some(None);
+        return Some((None, false));
     };
     let [u, y, v] = g.origin;
     let (x, z) = start.cell();
     // The four corners in one read, as the walk reads them.
-    let c = Corners::<f32>::from_raw(field.cell_raw(x, z), field.units_per_sample());
+    let raw = field.cell_raw(x, z);
+    let mult = field.units_per_sample();
+    let c = Corners::<f32>::from_raw(raw, mult);
     let fu = (u - x as f32).clamp(0.0, 1.0);
     let fv = (v - z as f32).clamp(0.0, 1.0);
     let gap = y - c.plane_height(fu, fv);
     let on_side = if side > 0.0 { gap > 0.0 } else { gap < 0.0 };
-    on_side.then_some(Some(start))
+    let lowest = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
+    on_side.then(|| (Some(start), y >= f32::from_raw_height(lowest, mult)))
 }
 
 /// The hints of field `field_index` for each lane of a packet, from the
@@ -1380,7 +1391,58 @@ fn lane_hints<'h>(
 
 #[cfg(test)]
 mod tests {
-    use super::{limit_on_the_bits, COLOUR_LIMIT};
+    use super::{checked_start, limit_on_the_bits, COLOUR_LIMIT};
+    use crate::heightfield::{HeightConvention, HeightField, Samples};
+    use crate::skip::{SkipGrid, SkipLayout};
+    use crate::traversal::{self, Counters, GridRay};
+
+    /// An origin above its start cell's plane, which rounds below the
+    /// cell's lowest corner, and below that corner: the offset check passes
+    /// it, but not as a start for the walk that answers yes or no, whose
+    /// culls assume the ray above the lowest corner after the start cell.
+    /// Here the ray stays below it through the start cell, enters the next
+    /// cell below the surface and rises through it: the exact walk finds
+    /// the crossing, the yes/no walk would not.
+    #[test]
+    fn regression_shadow_origin_above_a_plane_rounded_below_its_corners() {
+        // Samples (x, z): (0, 0) 207, (1, 0) 10, (2, 0) 0; (0, 1) 10,
+        // (1, 1) 10, (2, 1) 0. Image rows, grid row 1 first.
+        let samples = [10u8, 10, 0, 207, 10, 0];
+        let field = HeightField::new(Samples::U8(&samples), 3, 2, HeightConvention::Gray8).unwrap();
+        let layout = SkipLayout::blocks(1);
+        let mut memory = [0u8; 256];
+        let n = SkipGrid::bytes_needed_for(&field, layout).unwrap();
+        SkipGrid::build(&field, layout, &mut memory[..n]).unwrap();
+        let field = field.with_skip(&memory[..n]).unwrap();
+        // (fu, fv) = (0.89086455, 0.10913544): the plane of corners 207,
+        // 10, 10 there rounds to 0.039215080 (bits 1025548286), below the
+        // corners' 10 · 257 / 65536 = 0.039215088 (1025548288).
+        let (fu, fv) = (f32::from_bits(0x3f64_0fb3), f32::from_bits(0x3ddf_8267));
+        let ray = GridRay {
+            origin: [fu, f32::from_bits(1_025_548_287), fv],
+            direction: [1.0, 1e-9, 1e-3],
+        };
+        let (start, not_below) = checked_start(&field, &ray, 1.0).expect("above the plane");
+        let start = start.expect("over the footprint");
+        assert!(!not_below, "the origin is below the cell's lowest corner");
+        let exact = traversal::nearest(&field, &ray, 0.0, 10.0, true, &mut Counters::default());
+        assert!(
+            exact.is_some(),
+            "the ray crosses the surface in the next cell"
+        );
+        let yes_no = traversal::nearest_from_footprint(
+            &field,
+            &ray,
+            start,
+            10.0,
+            true,
+            &mut Counters::default(),
+        );
+        assert!(
+            yes_no.is_none(),
+            "the yes/no walk needs the origin not below"
+        );
+    }
 
     #[test]
     fn colour_limit_on_the_bits() {

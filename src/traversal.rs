@@ -1594,7 +1594,8 @@ impl FootprintStart {
 /// unit test `shadow_walk_from_the_footprint_is_nearest`.
 ///
 /// `above`: the caller's offset check found the ray's first sample strictly
-/// above the surface (as `shading::checked_start` computes it); on a field
+/// above the surface and its origin not below the start cell's lowest
+/// corner (as `shading::checked_start` computes them); on a field
 /// without water the walk then needs only a yes/no, which it finds with less
 /// work (`Walk::walk_hdda_moving`, which proves it the same): the hit
 /// returned then names the cell only. Without it, `nearest`'s hit.
@@ -2409,7 +2410,8 @@ impl<S: Real> Walk<S> {
     ///
     /// `above` (rising shadow rays, in those builds by sign): the walk of a
     /// ray whose first sample (the start cell's, at `t = 0`, `Interior`) is
-    /// strictly above the surface, on a field without water (`wet` false),
+    /// strictly above the surface, from an origin not below the start
+    /// cell's lowest corner, on a field without water (`wet` false),
     /// started at the cells ([`nearest_from_footprint`]), in builds
     /// (`ABOVE`) that answer only whether there is a hit, as the exact walk
     /// would, with less work:
@@ -2429,7 +2431,14 @@ impl<S: Real> Walk<S> {
     /// corners, which may round past them) is within its cell's lowest and
     /// highest corners. Claim: in the flat walk, every cell visited before
     /// the first hit is entered with `g > 0`. The first is (the offset
-    /// check). A cell entered with `g > 0` at an edge or vertex is not
+    /// check), and it is not culled as below: `y` rises from the origin,
+    /// which is not below the cell's lowest corner. (That needs checking
+    /// apart: the start's plane may round below the lowest corner, and an
+    /// origin between the two, above the surface at its first sample, can
+    /// stay below the whole cell and enter the next one below the surface;
+    /// `shading`'s test
+    /// `regression_shadow_origin_above_a_plane_rounded_below_its_corners`.)
+    /// A cell entered with `g > 0` at an edge or vertex is not
     /// culled as below: the ray there is above a sample that is at least
     /// the lowest corner, and the higher end of its range is at least that
     /// (so dropping the "below" test changes nothing; the start cell keeps
