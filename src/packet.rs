@@ -724,11 +724,11 @@ fn shared_start<F: WalkGrid>(
         ($along_u:expr, $up:expr) => {
             if skip.wide() {
                 march::<F, $along_u, $up, true>(
-                    field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
+                    field, skip, rays, inv, mask, first, t_far, lead, &fill, d_u, d_v,
                 )
             } else {
                 march::<F, $along_u, $up, false>(
-                    field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
+                    field, skip, rays, inv, mask, first, t_far, lead, &fill, d_u, d_v,
                 )
             }
         };
@@ -753,7 +753,7 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     skip: &SkipGrid<'_>,
     rays: &RayPacket,
     inv: &[Lanes; 3],
-    walked: u32,
+    mask: BVec4A,
     first: [[i32; 4]; 2],
     t_far: Vec4,
     lead: usize,
@@ -779,13 +779,16 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     // `ε` less its part that grows with `|b|` (see above).
     let slack = 2.0 * o_b.abs().max_element() + cells_b as f32 + 2.0;
     // The near line of the lanes' first column (in the walk's order).
-    let firsts = first[!along_u as usize];
-    let mut k = firsts[lead];
-    for (l, &first) in firsts.iter().enumerate() {
-        if walked >> l & 1 != 0 && (first - k) * step < 0 {
-            k = first;
-        }
-    }
+    // (Lane-wise, in `f32`, exact: the cells are within `0..2^20`; not
+    // lane by lane over the walked lanes' bits: bench512 1 instruction a
+    // primary ray fewer, level_rmnp 2.)
+    let firsts = first[!along_u as usize].map(|c| c as f32);
+    let firsts = Vec4::select(mask, Vec4::from_array(firsts), Vec4::splat(firsts[lead]));
+    let mut k = if UP {
+        firsts.min_element()
+    } else {
+        firsts.max_element()
+    } as i32;
     k += (step < 0) as i32;
     let start = k;
     // At line `k`: each lane's `t`, and the range of the lanes'
