@@ -669,9 +669,15 @@ const MAX_ACROSS: u32 = 4;
 ///   (`u = 2^-24`), and the walk's row at a parameter is within
 ///   `3u·|row − o|` of the exact coordinate (its boundary parameters are
 ///   within three roundings of exact; the first row, taken from the entry
-///   point, within the error of `b`). With `ε` eight times those bounds'
-///   sum over the lanes, the rows `⌊min b − ε⌋ ..= ⌊max b + ε⌋` hold every
-///   cell a lane visits between the lines.
+///   point, within the error of `b`). Both bounds grow with `|b|` (and
+///   `|t·d| ≤ |b| + |o|` nearly), and `b` less its bound grows with `b`:
+///   so no lane's row between the lines is below `lo = min b` (over the
+///   lanes and both lines) by more than `u·(5|lo| + 4·max |o|)` and a
+///   little, nor above `hi = max b` by more than the same of `hi`. With
+///   `ε(x) = 8u·(|x| + 2·max |o| + cells + 2)`, the rows
+///   `⌊lo − ε(lo)⌋ ..= ⌊hi + ε(hi)⌋` hold every cell a lane visits between
+///   the lines. (One `ε` of the larger of `|lo|` and `|hi|` for both ends
+///   cost bench512 2 instructions a primary ray more.)
 ///
 /// The first line is the near line of the lanes' first column; the walks
 /// end where the last culled step ends past each lane's `t_far`, or past
@@ -845,10 +851,11 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
         };
         let (t_next, there) = at(next);
         let y_there = o_y + t_next * d_y;
-        // `[hi, hi, −lo, −lo]` over the lanes at both lines, then widened by
-        // `ε` (`−lo + ε` is `−(lo − ε)`: rounding is symmetric).
+        // `[hi, hi, −lo, −lo]` over the lanes at both lines, then each end
+        // widened by its `ε` (`−lo + ε` is `−(lo − ε)`: rounding is
+        // symmetric).
         let range = gt_or(there, here);
-        let eps = (gt_or(range, range.zwxy()) + slack) * (1.0 / (1u32 << 21) as f32);
+        let eps = (range.abs() + slack) * (1.0 / (1u32 << 21) as f32);
         // The rows the lanes may be in, within the field (none when the
         // lanes are past its side; a NaN bound, `∞ − ∞`, is taken as the
         // side's, which leaves every row).
