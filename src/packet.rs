@@ -799,7 +799,9 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     let start = k;
     // At line `k`: each lane's `t`, and the range of the lanes'
     // coordinates across as `[max, max, −min, −min]`: both ends in one
-    // reduction, lane-wise from there on (no coordinate is NaN, see below).
+    // reduction, lane-wise from there on (no coordinate is NaN, as no `y`
+    // is, below). Bench512 (with the rows below): 214 -> 190 instructions
+    // a primary ray in the march.
     let at = |k: i32| -> (Vec4, Vec4) {
         let t = (Vec4::splat(k as f32) - o_a) * inv_a;
         let (a, n) = ((o_b + t * d_b).to_array(), (-(o_b + t * d_b)).to_array());
@@ -813,7 +815,8 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     // `[−1, −1, 0, 0] ..= [last_row, last_row, cells_b, cells_b]` (an upper
     // bound below the first row, −1, or a lower one past the last,
     // `cells_b`, leaves no row), their floors found exactly from the bits
-    // of `2^23 + 1 + x` (no saturating conversions; see `first_cells`).
+    // of `2^23 + 1 + x`, an integer for `x` within `−1..=2^20` (no
+    // saturating conversions; see `first_cells`).
     const TWO_23: f32 = 8_388_608.0;
     let last_row = (cells_b - 1) as f32;
     let upper = Vec4::new(last_row, last_row, 0.0, 0.0);
