@@ -56,7 +56,7 @@
 //! `tests/render_coherence.rs` on depth and colour renders, and so does the
 //! `intersect` fuzz target.
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::{BVec4A, Vec3, Vec4, Vec4Swizzles};
 
 use crate::ray::Ray;
 use crate::real::Real;
@@ -669,9 +669,15 @@ const MAX_ACROSS: u32 = 4;
 ///   (`u = 2^-24`), and the walk's row at a parameter is within
 ///   `3u·|row − o|` of the exact coordinate (its boundary parameters are
 ///   within three roundings of exact; the first row, taken from the entry
-///   point, within the error of `b`). With `ε` eight times those bounds'
-///   sum over the lanes, the rows `⌊min b − ε⌋ ..= ⌊max b + ε⌋` hold every
-///   cell a lane visits between the lines.
+///   point, within the error of `b`). Both bounds grow with `|b|` (and
+///   `|t·d| ≤ |b| + |o|` nearly), and `b` less its bound grows with `b`:
+///   so no lane's row between the lines is below `lo = min b` (over the
+///   lanes and both lines) by more than `u·(5|lo| + 4·max |o|)` and a
+///   little, nor above `hi = max b` by more than the same of `hi`. With
+///   `ε(x) = 8u·(|x| + 2·max |o| + cells + 2)`, the rows
+///   `⌊lo − ε(lo)⌋ ..= ⌊hi + ε(hi)⌋` hold every cell a lane visits between
+///   the lines. (One `ε` of the larger of `|lo|` and `|hi|` for both ends
+///   cost bench512 2 instructions a primary ray more.)
 ///
 /// The first line is the near line of the lanes' first column; the walks
 /// end where the last culled step ends past each lane's `t_far`, or past
@@ -724,11 +730,11 @@ fn shared_start<F: WalkGrid>(
         ($along_u:expr, $up:expr) => {
             if skip.wide() {
                 march::<F, $along_u, $up, true>(
-                    field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
+                    field, skip, rays, inv, mask, first, t_far, lead, &fill, d_u, d_v,
                 )
             } else {
                 march::<F, $along_u, $up, false>(
-                    field, skip, rays, inv, walked, first, t_far, lead, &fill, d_u, d_v,
+                    field, skip, rays, inv, mask, first, t_far, lead, &fill, d_u, d_v,
                 )
             }
         };
@@ -753,7 +759,7 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     skip: &SkipGrid<'_>,
     rays: &RayPacket,
     inv: &[Lanes; 3],
-    walked: u32,
+    mask: BVec4A,
     first: [[i32; 4]; 2],
     t_far: Vec4,
     lead: usize,
@@ -779,26 +785,47 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
     // `ε` less its part that grows with `|b|` (see above).
     let slack = 2.0 * o_b.abs().max_element() + cells_b as f32 + 2.0;
     // The near line of the lanes' first column (in the walk's order).
-    let firsts = first[!along_u as usize];
-    let mut k = firsts[lead];
-    for (l, &first) in firsts.iter().enumerate() {
-        if walked >> l & 1 != 0 && (first - k) * step < 0 {
-            k = first;
-        }
-    }
+    // (Lane-wise, in `f32`, exact: the cells are within `0..2^20`; not
+    // lane by lane over the walked lanes' bits: bench512 1 instruction a
+    // primary ray fewer, level_rmnp 2.)
+    let firsts = first[!along_u as usize].map(|c| c as f32);
+    let firsts = Vec4::select(mask, Vec4::from_array(firsts), Vec4::splat(firsts[lead]));
+    let mut k = if UP {
+        firsts.min_element()
+    } else {
+        firsts.max_element()
+    } as i32;
     k += (step < 0) as i32;
     let start = k;
     // At line `k`: each lane's `t`, and the range of the lanes'
-    // coordinates across.
-    let at = |k: i32| -> (Vec4, [f32; 2]) {
+    // coordinates across as `[max, max, −min, −min]`: both ends in one
+    // reduction, lane-wise from there on (no coordinate is NaN, as no `y`
+    // is, below). Bench512 (with the rows below): 214 -> 190 instructions
+    // a primary ray in the march.
+    let at = |k: i32| -> (Vec4, Vec4) {
         let t = (Vec4::splat(k as f32) - o_a) * inv_a;
-        let across = o_b + t * d_b;
-        (t, [across.min_element(), across.max_element()])
+        let (a, n) = ((o_b + t * d_b).to_array(), (-(o_b + t * d_b)).to_array());
+        let half = gt_or(
+            Vec4::new(a[0], a[1], n[0], n[1]),
+            Vec4::new(a[2], a[3], n[2], n[3]),
+        );
+        (t, gt_or(half, half.yxwz()))
     };
+    // The rows' bounds clamped lane-wise to the field's side as
+    // `[−1, −1, 0, 0] ..= [last_row, last_row, cells_b, cells_b]` (an upper
+    // bound below the first row, −1, or a lower one past the last,
+    // `cells_b`, leaves no row), their floors found exactly from the bits
+    // of `2^23 + 1 + x`, an integer for `x` within `−1..=2^20` (no
+    // saturating conversions; see `first_cells`).
+    const TWO_23: f32 = 8_388_608.0;
+    let last_row = (cells_b - 1) as f32;
+    let upper = Vec4::new(last_row, last_row, 0.0, 0.0);
+    let lower = Vec4::new(-1.0, -1.0, -(cells_b as f32), -(cells_b as f32));
+    let signs = Vec4::new(1.0, 1.0, -1.0, -1.0);
+    let slack = Vec4::splat(slack);
     let log2 = skip.block_log2() as u32;
     let top = skip.levels() as u32;
     let mult = field.units_per_sample();
-    let last_row = (cells_b - 1) as f32;
     let mut level = top;
     // `log2·level`, and the level's bounds, kept from step to step; the
     // lanes' `y` compared lane-wise, not reduced (with `LevelHighs`:
@@ -827,27 +854,31 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
         };
         let (t_next, there) = at(next);
         let y_there = o_y + t_next * d_y;
-        let (lo, hi) = (Real::min(here[0], there[0]), Real::max(here[1], there[1]));
-        let eps = (Real::max(-lo, hi) + slack) * (1.0 / (1u32 << 21) as f32);
-        let (lo, hi) = (lo - eps, hi + eps);
+        // `[hi, hi, −lo, −lo]` over the lanes at both lines, then each end
+        // widened by its `ε` (`−lo + ε` is `−(lo − ε)`: rounding is
+        // symmetric).
+        let range = gt_or(there, here);
+        let eps = (range.abs() + slack) * (1.0 / (1u32 << 21) as f32);
         // The rows the lanes may be in, within the field (none when the
-        // lanes are past its side; a NaN range is not culled).
-        // (Truncation is the floor where it matters: at or above 0.)
-        let culled = !(lo.is_nan() || hi.is_nan())
-            && (hi < 0.0 || {
-                let row_lo = (lo as i32).max(0);
-                let row_hi = Real::min(hi, last_row) as i32;
-                row_lo > row_hi || {
-                    let (b_lo, b_hi) = ((row_lo >> shift) as u32, (row_hi >> shift) as u32);
-                    b_hi - b_lo < MAX_ACROSS && {
-                        // The block column between the lines.
-                        let column = (if UP { k } else { next } >> shift) as u32;
-                        let highest = highs.highest(along_u, column, b_lo, b_hi);
-                        let h = Vec4::splat(f32::from_raw_height(highest, mult));
-                        y_here.min(y_there).cmpgt(h).all()
-                    }
-                }
-            });
+        // lanes are past its side; a NaN bound, `∞ − ∞`, is taken as the
+        // side's, which leaves every row).
+        let x = gt_or(lt_or(range + eps, upper), lower) * signs;
+        let bias = Vec4::splat(TWO_23 + 1.0);
+        let near = (x + bias) - bias;
+        let floor = near - Vec4::select(near.cmpgt(x), Vec4::ONE, Vec4::ZERO);
+        let bits = (floor + bias).to_array();
+        let row = |l: usize| bits[l].to_bits() as i32 - (TWO_23.to_bits() as i32 + 1);
+        let (row_lo, row_hi) = (row(2), row(0));
+        let culled = row_lo > row_hi || {
+            let (b_lo, b_hi) = ((row_lo >> shift) as u32, (row_hi >> shift) as u32);
+            b_hi - b_lo < MAX_ACROSS && {
+                // The block column between the lines.
+                let column = (if UP { k } else { next } >> shift) as u32;
+                let highest = highs.highest(along_u, column, b_lo, b_hi);
+                let h = Vec4::splat(f32::from_raw_height(highest, mult));
+                y_here.min(y_there).cmpgt(h).all()
+            }
+        };
         if culled {
             k = next;
             here = there;
