@@ -44,6 +44,10 @@
 //! (`LineStarts`), and the second quad does not march when the first
 //! marched and found no line (its lanes then start from their entries,
 //! as they would with no shared start).
+//! The lanes' walks then run a build at a time (`Walk::walk_lanes`): those
+//! whose steps and `d_y` have the same signs in one call of the walk for
+//! them, which sets up the field once (each lane's walk is one walk made
+//! for the packet and aimed along it, `Walk::aim`).
 //! With column coherence (level cameras), a lane that resumes where the ray
 //! below it stopped starts there; the others take their quad's shared start
 //! (`Walk::walk_column_from`: a start past cells the flat walk culls keeps
@@ -63,8 +67,8 @@ use crate::real::Real;
 use crate::skip::SkipGrid;
 use crate::transform::GridTransform;
 use crate::traversal::{
-    nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, Traversal, Walk,
-    WalkGrid,
+    nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, LaneSource, Resume,
+    Traversal, Walk, WalkGrid,
 };
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
@@ -259,6 +263,10 @@ fn clip(
     }
 }
 
+/// `2^23`: `(x + 2^23) − 2^23` rounds `x` (within `0..2^22`) to an integer,
+/// whose bits are those of `2^23 + x` less those of `2^23`.
+const TWO_23: f32 = 8_388_608.0;
+
 /// [`first_cell`] of each walked lane's entry coordinate `p` (within
 /// `0..=cells`, at most 2^20) along an axis on which its direction is `d`
 /// (not zero), lane-wise on `Vec4`s, with the same result: the floor of
@@ -270,7 +278,6 @@ fn clip(
 /// The cells also in `f32`, as a [`pair`].
 #[inline(always)]
 fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> ([i32; LANES], [Vec4; 2]) {
-    const TWO_23: f32 = 8_388_608.0;
     let (p, d) = (pair(p), pair(d));
     let one_if = |m: BVec4A| Vec4::select(m, Vec4::ONE, Vec4::ZERO);
     let half = |h: usize| {
@@ -417,25 +424,69 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
         // (The lanes that end before their quad's line build no walk.)
         // (Over the bits of the lanes to walk: bench512 1,119 -> 1,115
         // instructions a primary ray, the same time.)
-        let mut lanes_left = walked_bits & !lines.past;
+        let lanes_left = walked_bits & !lines.past;
+        if lanes_left == 0 {
+            return hits;
+        }
+        // One walk, made for the first lane, aimed along each in turn.
+        let template = walk_of(lanes_left.trailing_zeros() as usize);
+        // The lanes `walk_lanes` takes: those whose line start was found,
+        // and those from their entries whose boundaries are strict.
+        let (found, entries) = (
+            lanes_left & lines.at & lines.found,
+            lanes_left & !lines.at & lines.strict,
+        );
+        if found | entries != 0 {
+            let bits = |m: [BVec4A; 2]| m[0].bitmask() | m[1].bitmask() << 4;
+            let up = |k: usize| bits([d4[k][0].cmpgt(Vec4::ZERO), d4[k][1].cmpgt(Vec4::ZERO)]);
+            let rising = bits([d4[1][0].cmpge(Vec4::ZERO), d4[1][1].cmpge(Vec4::ZERO)]);
+            let from_line = FromLine {
+                template: &template,
+                rays,
+                inv: &inv,
+                t_far: &t_far,
+                lines: &lines,
+            };
+            let from_entry = FromEntry {
+                template: &template,
+                rays,
+                inv: &inv,
+                t_far: &t_far,
+                entry: (&i, &j, &t_near),
+            };
+            Walk::walk_lanes(
+                field,
+                (found, &from_line),
+                (entries, &from_entry),
+                (up(0), up(2), rising),
+                &mut hits,
+                counters,
+            );
+        }
+        let mut walk = template;
+        let mut lanes_left = lanes_left & !(found | entries);
         while lanes_left != 0 {
             let l = lanes_left.trailing_zeros() as usize;
             lanes_left &= lanes_left - 1;
-            let mut walk = walk_of(l);
-            let (i, j, t_near) = (i[l], j[l], t_near[l]);
-            hits[l] = match shared[l / 4] {
-                Some(s) if lines.at >> l & 1 != 0 => {
-                    let start = walk.line_start_at(i, j, s.along_u, s.line, lines.t_line[l]);
-                    walk.walk_from_line(field, start, counters)
-                }
-                _ => walk.walk_from_entry_inline(field, i, j, t_near, counters),
+            aim_lane(&mut walk, rays, &inv, t_far[l], l);
+            let start = if lines.at >> l & 1 != 0 {
+                let q = l >> 2 & 1;
+                let (along_u, line) = (lines.along_u[q], lines.line[q]);
+                walk.line_start_at(i[l], j[l], along_u, line, lines.t_line[l])
+            } else {
+                Resume::entry(i[l], j[l], t_near[l])
             };
+            hits[l] = walk.walk_from_inline(field, start, counters);
         }
         return hits;
     };
     // Each lane's column start first; then the lanes that do not resume may
     // start where their quad's shared start is.
+    // (One walk aimed along each lane in turn, as above, not one kept for
+    // each: level_rmnp (coherence on) 1,120 -> 1,105 instructions a
+    // primary ray.)
     let mut starts = [None; LANES];
+    let mut walk = walk_of(walked_bits.trailing_zeros() as usize & (LANES - 1));
     for l in 0..LANES {
         if !covered[l] {
             continue;
@@ -445,13 +496,13 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
         let previous = columns[l];
         columns[l].clear();
         if walked_bits >> l & 1 != 0 {
-            let walk = walk_of(l);
+            aim_lane(&mut walk, rays, &inv, t_far[l], l);
             let (i, j, t_near) = (i[l], j[l], t_near[l]);
             let start = walk.column_start(field, &previous, t_min, t_max, i, j, t_near, counters);
-            starts[l] = Some((walk, start));
+            starts[l] = Some(start);
         }
     }
-    let fresh = lanes(|l| starts[l].is_some_and(|(_, start)| !start.resumed));
+    let fresh = lanes(|l| starts[l].is_some_and(|start| !start.resumed));
     let fresh_bits = (0..LANES).fold(0, |bits, l| bits | (fresh[l] as u32) << l);
     let fresh_v = [
         BVec4A::from_array([fresh[0], fresh[1], fresh[2], fresh[3]]),
@@ -459,7 +510,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     ];
     let shared = quad_starts(field, rays, &inv, (&i, &j), &t_far, fresh_bits, fresh_v);
     for l in 0..LANES {
-        if let Some((mut walk, start)) = starts[l] {
+        if let Some(start) = starts[l] {
+            aim_lane(&mut walk, rays, &inv, t_far[l], l);
             let (column, t_near) = (&mut columns[l], t_near[l]);
             let line =
                 shared[l / 4].map(|s| walk.line_start(i[l], j[l], t_near, s.along_u, s.line));
@@ -532,14 +584,34 @@ fn quad_starts<F: WalkGrid>(
 /// magnitudes' bits, which order non-negative floats as their values do,
 /// with NaNs above infinity: false both ways), with its test of the
 /// cells (at most 2^20 a side) made once. The lanes that start so walk
-/// from [`Walk::walk_from_line`], which leaves out `walk_from`'s tests of
+/// from [`Walk::walk_lanes`], which leaves out `walk_from`'s tests of
 /// strictness, made here. Bench512: 1,153 -> 1,139 instructions a primary
 /// ray (lane by lane, LLVM had shared these tests between `line_start`
-/// and `walk_from`).
+/// and `walk_from`). The strictness of every lane (`strict`) is also what
+/// `walk_lanes` needs of the lanes from their entries.
+///
+/// The row of the cell beyond the line, which `line_start_at` finds with
+/// `first_exit_past`, is found here lane-wise where its first guess is it
+/// (`found`: every lane of bench512 but one in 32,290), by the same
+/// operations (see the comment in `of`); the others search in
+/// `line_start_at`. Bench512: 1,095 -> 1,079 instructions a primary ray
+/// (85 -> 44 a lane started at a line).
 struct LineStarts {
     at: u32,
     past: u32,
     t_line: Lanes,
+    /// The lanes of `at` whose row beyond the line is found here (`row`,
+    /// and whether the cell is entered at a vertex, `corner`); the others
+    /// search for it in [`Walk::line_start_at`].
+    found: u32,
+    corner: u32,
+    row: [i32; LANES],
+    /// Each quad's line (its `SharedStart`), where it has one.
+    along_u: [bool; 2],
+    line: [i32; 2],
+    /// The lanes whose boundary parameters are strictly monotone on both
+    /// axes (`Real::strict_boundaries`, as above), each lane's test.
+    strict: u32,
 }
 
 impl LineStarts {
@@ -556,6 +628,12 @@ impl LineStarts {
             at: 0,
             past: 0,
             t_line: [0.0; LANES],
+            found: 0,
+            corner: 0,
+            row: [0; LANES],
+            along_u: [false; 2],
+            line: [0; 2],
+            strict: 0,
         };
         let side = 1u32 << 20;
         if cells_u.unsigned_abs() > side || cells_v.unsigned_abs() > side {
@@ -563,10 +641,8 @@ impl LineStarts {
         }
         let (o, d) = (&rays.origin, &rays.direction);
         let mut t_line = [Vec4::ZERO; 2];
+        let mut row = [Vec4::ZERO; 2];
         for h in 0..2 {
-            let Some(s) = shared[h] else {
-                continue;
-            };
             let q = 4 * h;
             let four = |v: &Lanes| Vec4::from_slice(&v[q..q + 4]);
             let strict = |k: usize| {
@@ -575,10 +651,16 @@ impl LineStarts {
                     & inv.cmpge(Vec4::splat(1.0 / (1u128 << 100) as f32))
                     & inv.cmplt(Vec4::splat((1u128 << 79) as f32))
             };
-            let (a, first) = if s.along_u {
-                (0, first.0[h])
+            let strict = strict(0) & strict(2);
+            starts.strict |= strict.bitmask() << q;
+            let Some(s) = shared[h] else {
+                continue;
+            };
+            (starts.along_u[h], starts.line[h]) = (s.along_u, s.line);
+            let (a, b, first, first_b, cells_b) = if s.along_u {
+                (0, 2, first.0[h], first.1[h], cells_v)
             } else {
-                (2, first.1[h])
+                (2, 0, first.1[h], first.0[h], cells_u)
             };
             let (o_a, inv_a) = (four(&o[a]), four(&inv[a]));
             let off = Vec4::select(four(&d[a]).cmpgt(Vec4::ZERO), Vec4::ONE, Vec4::ZERO);
@@ -587,16 +669,113 @@ impl LineStarts {
             let far = ((first + off) - o_a) * inv_a;
             let t = (Vec4::splat(s.line as f32) - o_a) * inv_a;
             let (t_near, t_far) = (span.0[h], span.1[h]);
-            let ok =
-                strict(0) & strict(2) & near.cmple(t_near) & t_near.cmple(far) & t.cmpgt(t_near);
+            let ok = strict & near.cmple(t_near) & t_near.cmple(far) & t.cmpgt(t_near);
             let past = t.cmpge(t_far);
             starts.at |= (ok & !past).bitmask() << q;
             starts.past |= (ok & past).bitmask() << q;
             t_line[h] = t;
+            // `line_start_at`'s row: `first_exit_past` from the guess
+            // `⌊o_b + t·d_b⌋` within the rows from the first to the last,
+            // settled here where the guess's exit is past `t` and the
+            // row's before it is not (or the guess is the first row): the
+            // row is the guess. (Bench512: every lane but one of 32,290;
+            // looking at the next row too found no more.) The floor of the
+            // clamped guess is the clamped floor (the bounds are integers;
+            // the guess is not NaN: finite `o_b`, `t`), and the rows'
+            // lines, integers below 2^21, are exact in `f32`, as in
+            // `first_cells`.
+            let (o_b, d_b, inv_b) = (four(&o[b]), four(&d[b]), four(&inv[b]));
+            let up = d_b.cmpgt(Vec4::ZERO);
+            let step = Vec4::select(up, Vec4::ONE, Vec4::NEG_ONE);
+            let off = Vec4::select(up, Vec4::ONE, Vec4::ZERO);
+            let last = Vec4::select(up, Vec4::splat((cells_b - 1) as f32), Vec4::ZERO);
+            let guess = o_b + t * d_b;
+            let x = guess.max(first_b.min(last)).min(first_b.max(last));
+            let n = (x + Vec4::splat(TWO_23)) - Vec4::splat(TWO_23);
+            let k = n - Vec4::select(n.cmpgt(x), Vec4::ONE, Vec4::ZERO);
+            let exit = |k: Vec4| ((k + off) - o_b) * inv_b;
+            let (e_before, e_k) = (exit(k - step), exit(k));
+            let found = e_k.cmpgt(t) & (k.cmpeq(first_b) | !e_before.cmpgt(t));
+            let corner = k.cmpne(first_b) & e_before.cmpeq(t);
+            starts.found |= found.bitmask() << q;
+            starts.corner |= corner.bitmask() << q;
+            row[h] = k + Vec4::splat(TWO_23);
         }
         starts.t_line = unpair(t_line);
+        for (r, x) in starts.row.iter_mut().zip(unpair(row)) {
+            *r = x.to_bits().wrapping_sub(TWO_23.to_bits()) as i32;
+        }
+        starts.found &= starts.at;
         starts
     }
+}
+
+/// The lanes whose cell beyond their quad's line [`LineStarts`] found, for
+/// [`Walk::walk_lanes`].
+struct FromLine<'a> {
+    /// A lane's walk ([`lane_walk`]).
+    template: &'a Walk<f32>,
+    rays: &'a RayPacket,
+    inv: &'a [Lanes; 3],
+    t_far: &'a Lanes,
+    lines: &'a LineStarts,
+}
+
+impl LaneSource for FromLine<'_> {
+    #[inline(always)]
+    fn lane(&self, l: usize, su: i32, sv: i32) -> (Walk<f32>, Resume<f32>) {
+        let lines = self.lines;
+        let walk = signed_lane(self.template, self.rays, self.inv, self.t_far, l, su, sv);
+        let mut walk = walk;
+        let q = l >> 2 & 1;
+        let corner = lines.corner >> l & 1 != 0;
+        let (along_u, line) = (lines.along_u[q], lines.line[q]);
+        let start = walk.line_cell(along_u, line, lines.row[l], corner, lines.t_line[l]);
+        (walk, start)
+    }
+}
+
+/// The lanes walked from their entries (first cells `i`, `j`, where they
+/// enter the field's box `t_near`), for [`Walk::walk_lanes`].
+struct FromEntry<'a> {
+    /// A lane's walk ([`lane_walk`]).
+    template: &'a Walk<f32>,
+    rays: &'a RayPacket,
+    inv: &'a [Lanes; 3],
+    t_far: &'a Lanes,
+    entry: (&'a [i32; LANES], &'a [i32; LANES], &'a Lanes),
+}
+
+impl LaneSource for FromEntry<'_> {
+    #[inline(always)]
+    fn lane(&self, l: usize, su: i32, sv: i32) -> (Walk<f32>, Resume<f32>) {
+        let walk = signed_lane(self.template, self.rays, self.inv, self.t_far, l, su, sv);
+        let (i, j, t_near) = self.entry;
+        (walk, Resume::entry(i[l], j[l], t_near[l]))
+    }
+}
+
+/// `template` aimed along lane `l` ([`Walk::aim`]), whose steps along `u`
+/// and `v` are `su` and `sv`.
+#[inline(always)]
+fn signed_lane(
+    template: &Walk<f32>,
+    rays: &RayPacket,
+    inv: &[Lanes; 3],
+    t_far: &Lanes,
+    l: usize,
+    su: i32,
+    sv: i32,
+) -> Walk<f32> {
+    let mut walk = *template;
+    let GridRay { origin, direction } = rays.grid_ray(l);
+    let axis = |k: usize, step: i32| Axis {
+        step,
+        off: (step > 0) as i32,
+        inv: inv[k][l],
+    };
+    walk.aim(origin, direction, axis(0, su), axis(2, sv), t_far[l]);
+    walk
 }
 
 /// Lane `l`'s walk (its axes all move), up to `t_far`.
@@ -610,21 +789,29 @@ fn lane_walk<F: WalkGrid>(
     l: usize,
 ) -> Walk<f32> {
     let GridRay { origin, direction } = rays.grid_ray(l);
+    let (au, av) = lane_axes(rays, inv, l);
+    Walk::new(field, origin, direction, au, av, t_far, water, false)
+}
+
+/// `walk` aimed along lane `l` ([`Walk::aim`]): [`lane_walk`] of the lane,
+/// for a walk made by `lane_walk` of another lane.
+#[inline(always)]
+fn aim_lane(walk: &mut Walk<f32>, rays: &RayPacket, inv: &[Lanes; 3], t_far: f32, l: usize) {
+    let GridRay { origin, direction } = rays.grid_ray(l);
+    let (au, av) = lane_axes(rays, inv, l);
+    walk.aim(origin, direction, au, av, t_far);
+}
+
+/// Lane `l`'s axes `u` and `v` (both moving).
+#[inline(always)]
+fn lane_axes(rays: &RayPacket, inv: &[Lanes; 3], l: usize) -> (Axis<f32>, Axis<f32>) {
+    let direction = &rays.direction;
     let axis = |k: usize| Axis {
-        step: if direction[k] > 0.0 { 1 } else { -1 },
-        off: (direction[k] > 0.0) as i32,
+        step: if direction[k][l] > 0.0 { 1 } else { -1 },
+        off: (direction[k][l] > 0.0) as i32,
         inv: inv[k][l],
     };
-    Walk::new(
-        field,
-        origin,
-        direction,
-        axis(0),
-        axis(2),
-        t_far,
-        water,
-        false,
-    )
+    (axis(0), axis(2))
 }
 
 /// A grid line before which no lane of a packet hits the field (see
