@@ -189,10 +189,16 @@ fn changed_level(diff: u32, recip: u32, top: u32) -> u32 {
     ((high * recip) >> 8).min(top)
 }
 
-/// Clips `[t_min, t_max]` to the slab of axis `k` of `slabs`.
+/// Clips `[t_min, t_max]` to the slab of axis `k` of `slabs`. `MOVING`:
+/// the caller knows the axis is not parallel (the test is compiled out).
 #[inline(always)]
-fn slab<S: Real>(slabs: &OriginSlabs<S>, k: usize, axis: &Axis<S>, t: &mut (S, S)) -> bool {
-    if axis.step == 0 {
+fn slab<const MOVING: bool, S: Real>(
+    slabs: &OriginSlabs<S>,
+    k: usize,
+    axis: &Axis<S>,
+    t: &mut (S, S),
+) -> bool {
+    if !MOVING && axis.step == 0 {
         return slabs.o[k] >= slabs.lo[k] && slabs.o[k] <= slabs.hi[k];
     }
     let mut a = slabs.to_lo[k] * axis.inv;
@@ -1846,6 +1852,59 @@ pub(crate) fn nearest_from_origin<F: WalkGrid>(
     d: [f32; 3],
     counters: &mut Counters,
 ) -> Option<GridHit<f32>> {
+    match moving_axes(&d) {
+        // `nearest`'s range checks pass for `[0, ∞)`.
+        Some(axes) => walk_over::<true, _, _>(
+            field,
+            slabs,
+            &d,
+            &axes,
+            0.0,
+            f32::INFINITY,
+            false,
+            None,
+            counters,
+        ),
+        None => nearest_from_origin_parallel(field, slabs, d, counters),
+    }
+}
+
+/// [`ray_axes`] of a direction each of whose components has a finite,
+/// non-zero reciprocal (every camera ray but those along a grid plane),
+/// else `None`. Such a direction is finite and not zero, has no [`tiny`]
+/// component, and moves along every axis: [`walk_over`]'s tests of those
+/// are compiled out (its `MOVING`). One integer test of each reciprocal's
+/// bits, not `Axis::new`'s finiteness test and `tiny`'s and `walk_over`'s
+/// tests of each component.
+#[inline(always)]
+fn moving_axes(d: &[f32; 3]) -> Option<[Axis<f32>; 3]> {
+    let inv = d.map(|v| 1.0 / v);
+    // `|1/d|` finite and non-zero: its bits in `1..=0x7f7f_ffff` (a zero
+    // `d` gives an infinity, a NaN a NaN, an infinite `d` a zero).
+    let moving = |v: f32| (v.to_bits() & 0x7fff_ffff).wrapping_sub(1) < 0x7f7f_ffff;
+    if !(moving(inv[0]) & moving(inv[1]) & moving(inv[2])) {
+        return None;
+    }
+    // As `Axis::new` makes them: `d` is neither zero nor NaN.
+    Some(core::array::from_fn(|k| {
+        let up = d[k].positive_nonzero();
+        Axis {
+            step: if up { 1 } else { -1 },
+            off: up as i32,
+            inv: inv[k],
+        }
+    }))
+}
+
+/// [`nearest_from_origin`] of a direction with a component that is zero,
+/// not finite, or whose reciprocal overflows: out of line, as rare.
+#[inline(never)]
+fn nearest_from_origin_parallel<F: WalkGrid>(
+    field: &F,
+    slabs: &OriginSlabs<f32>,
+    d: [f32; 3],
+    counters: &mut Counters,
+) -> Option<GridHit<f32>> {
     let axes = ray_axes(&d);
     if tiny(&d, &axes) {
         let ray = GridRay {
@@ -1855,7 +1914,7 @@ pub(crate) fn nearest_from_origin<F: WalkGrid>(
         return nearest_rescaled(field, &ray, counters);
     }
     // `nearest`'s range checks pass for `[0, ∞)`.
-    walk_over(
+    walk_over::<false, _, _>(
         field,
         slabs,
         &d,
@@ -1896,7 +1955,7 @@ fn walk<S: Real, F: WalkGrid>(
     counters: &mut Counters,
 ) -> Option<GridHit<S>> {
     let slabs = OriginSlabs::new(field, ray.origin);
-    walk_over(
+    walk_over::<false, _, _>(
         field,
         &slabs,
         &ray.direction,
@@ -1909,10 +1968,11 @@ fn walk<S: Real, F: WalkGrid>(
     )
 }
 
-/// [`walk`] of the ray from the origin of `slabs` along `d`.
+/// [`walk`] of the ray from the origin of `slabs` along `d`. `MOVING`: the
+/// caller knows `d` finite and each of `axes` moving ([`moving_axes`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn walk_over<S: Real, F: WalkGrid>(
+fn walk_over<const MOVING: bool, S: Real, F: WalkGrid>(
     field: &F,
     slabs: &OriginSlabs<S>,
     d: &[S; 3],
@@ -1930,10 +1990,10 @@ fn walk_over<S: Real, F: WalkGrid>(
         previous
     });
     let o = &slabs.o;
-    if !(slabs.finite && d.iter().all(|v| v.is_finite())) {
+    if !(slabs.finite && (MOVING || d.iter().all(|v| v.is_finite()))) {
         return None;
     }
-    if d.iter().all(|&v| v == S::ZERO) {
+    if !MOVING && d.iter().all(|&v| v == S::ZERO) {
         return None;
     }
     // NaN bounds compare as unordered and miss.
@@ -1952,9 +2012,9 @@ fn walk_over<S: Real, F: WalkGrid>(
     let cells_v = field.depth() as i32 - 1;
     let [au, ay, av] = *axes;
     let mut span = (t_min, t_max);
-    if !(slab(slabs, 0, &au, &mut span)
-        && slab(slabs, 1, &ay, &mut span)
-        && slab(slabs, 2, &av, &mut span))
+    if !(slab::<MOVING, _>(slabs, 0, &au, &mut span)
+        && slab::<MOVING, _>(slabs, 1, &ay, &mut span)
+        && slab::<MOVING, _>(slabs, 2, &av, &mut span))
     {
         return None;
     }
