@@ -201,11 +201,17 @@ fn slab<const MOVING: bool, S: Real>(
     if !MOVING && axis.step == 0 {
         return slabs.o[k] >= slabs.lo[k] && slabs.o[k] <= slabs.hi[k];
     }
-    let mut a = slabs.to_lo[k] * axis.inv;
-    let mut b = slabs.to_hi[k] * axis.inv;
-    if a > b {
-        core::mem::swap(&mut a, &mut b);
-    }
+    // The near and far side by the direction's sign, not by comparing the
+    // two parameters: `lo − o ≤ hi − o` (each rounding is monotone), so
+    // their products with a positive `inv` are in that order and with a
+    // negative one in the other (equal ones are the same either way): the
+    // same pair, bit for bit. (With the water test made once a frame in
+    // `OriginSlabs::open`, frames: Cortex-M4F lcd 43.71 -> 43.54 M
+    // instructions, base 11.34 -> 11.28 M; i486 base, where a float compare
+    // is four instructions and stack shuffles, 17.30 -> 16.99 M.)
+    let up = (axis.off & 1) as usize;
+    let to = &slabs.to[k];
+    let (a, b) = (to[up ^ 1] * axis.inv, to[up] * axis.inv);
     t.0 = t.0.max(a);
     t.1 = t.1.min(b);
     t.0 <= t.1
@@ -1796,18 +1802,18 @@ fn starts_above<S: Real, F: WalkGrid>(
 }
 
 /// What [`walk`]'s set-up takes from a ray's origin and the field alone:
-/// the origin, whether it is finite, and each axis's slab (`lo..=hi`,
-/// `lo − o`, `hi − o`). Camera rays share their origin, so a renderer
+/// the origin, whether a walk from it may find anything (it is finite, and
+/// not all of the field is under water), and each axis's slab (`lo..=hi`, and
+/// `[lo − o, hi − o]`). Camera rays share their origin, so a renderer
 /// makes it once a frame ([`nearest_from_origin`]; the same expressions on
 /// the same inputs, so the same bits as each ray's own).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct OriginSlabs<S> {
     o: [S; 3],
-    finite: bool,
+    open: bool,
     lo: [S; 3],
     hi: [S; 3],
-    to_lo: [S; 3],
-    to_hi: [S; 3],
+    to: [[S; 2]; 3],
     water: S,
 }
 
@@ -1832,11 +1838,10 @@ impl<S: Real> OriginSlabs<S> {
         let hi = [S::from_i32(cells_u), y_hi, S::from_i32(cells_v)];
         OriginSlabs {
             o,
-            finite: o.iter().all(|v| v.is_finite()),
+            open: o.iter().all(|v| v.is_finite()) && max_units >= field.water_units(),
             lo,
             hi,
-            to_lo: core::array::from_fn(|k| lo[k] - o[k]),
-            to_hi: core::array::from_fn(|k| hi[k] - o[k]),
+            to: core::array::from_fn(|k| [lo[k] - o[k], hi[k] - o[k]]),
             water,
         }
     }
@@ -1875,7 +1880,8 @@ pub(crate) fn nearest_from_origin<F: WalkGrid>(
 /// component, and moves along every axis: [`walk_over`]'s tests of those
 /// are compiled out (its `MOVING`). One integer test of each reciprocal's
 /// bits, not `Axis::new`'s finiteness test and `tiny`'s and `walk_over`'s
-/// tests of each component.
+/// tests of each component (frames: Cortex-M4F lcd 44.31 -> 43.71 M
+/// instructions, base 11.51 -> 11.34 M; i486 base 17.62 -> 17.30 M).
 #[inline(always)]
 fn moving_axes(d: &[f32; 3]) -> Option<[Axis<f32>; 3]> {
     let inv = d.map(|v| 1.0 / v);
@@ -1990,7 +1996,8 @@ fn walk_over<const MOVING: bool, S: Real, F: WalkGrid>(
         previous
     });
     let o = &slabs.o;
-    if !(slabs.finite && (MOVING || d.iter().all(|v| v.is_finite()))) {
+    // (All of the field under water: a miss, as a non-finite ray.)
+    if !(slabs.open && (MOVING || d.iter().all(|v| v.is_finite()))) {
         return None;
     }
     if !MOVING && d.iter().all(|&v| v == S::ZERO) {
@@ -2005,9 +2012,6 @@ fn walk_over<const MOVING: bool, S: Real, F: WalkGrid>(
         return None;
     }
 
-    if field.units_range().1 < field.water_units() {
-        return None; // everything is under water
-    }
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;
     let [au, ay, av] = *axes;
