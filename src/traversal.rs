@@ -1885,15 +1885,19 @@ pub(crate) fn nearest_from_origin<F: WalkGrid>(
 #[inline(always)]
 fn moving_axes(d: &[f32; 3]) -> Option<[Axis<f32>; 3]> {
     let inv = d.map(|v| 1.0 / v);
+    let bits = inv.map(f32::to_bits);
     // `|1/d|` finite and non-zero: its bits in `1..=0x7f7f_ffff` (a zero
     // `d` gives an infinity, a NaN a NaN, an infinite `d` a zero).
-    let moving = |v: f32| (v.to_bits() & 0x7fff_ffff).wrapping_sub(1) < 0x7f7f_ffff;
-    if !(moving(inv[0]) & moving(inv[1]) & moving(inv[2])) {
+    let moving = |b: u32| (b & 0x7fff_ffff).wrapping_sub(1) < 0x7f7f_ffff;
+    if !(moving(bits[0]) & moving(bits[1]) & moving(bits[2])) {
         return None;
     }
-    // As `Axis::new` makes them: `d` is neither zero nor NaN.
+    // As `Axis::new` makes them: `d` is neither zero nor NaN, so `d > 0`
+    // is the sign bit of `1/d`, whose bits are at hand (Cortex-M4F lcd
+    // frame 43.37 -> 43.26 M instructions, base 11.24 -> 11.21 M; i486 base
+    // 16.93 -> 16.94 M, and 16.95 M with `d`'s sign there: noise).
     Some(core::array::from_fn(|k| {
-        let up = d[k].positive_nonzero();
+        let up = bits[k] >> 31 == 0;
         Axis {
             step: if up { 1 } else { -1 },
             off: up as i32,
