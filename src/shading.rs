@@ -831,6 +831,14 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         Vec3::ZERO + self.background_seen
     }
 
+    /// What [`trace_missed`](Self::trace_missed) counts for `rays` such
+    /// rays, at once.
+    pub fn count_missed(&self, stats: &mut Stats, rays: u32) {
+        if self.max_trace_level != 0 {
+            stats.primary_rays += u64::from(rays);
+        }
+    }
+
     /// [`trace_camera`](Self::trace_camera) with the height-field work
     /// (cells, triangle tests, blocks, resumed walks) added to `counters`,
     /// not to `stats`: a renderer adds them to its `stats` once

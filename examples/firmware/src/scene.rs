@@ -816,17 +816,16 @@ impl<'s> Renderer<'s> {
         let cull = self.tracer.ray_cull(&self.camera, Some(0..height as u32));
         let missed = Rgb888::from_linear(self.tracer.trace_missed(&mut Stats::default()), 0, 0);
         for y in 0..height as u32 {
-            let traced = cull.row(y);
-            for (x, p) in (0u32..).zip(line.iter_mut()) {
-                *p = if traced.contains(x) {
+            let off = cull.row(y).fill(
+                line,
+                |x| {
                     let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
                     let c = pixels.trace_pixel_counting(cx, cy, &mut stats, &mut counters);
                     Rgb888::from_linear(c, x, y)
-                } else {
-                    self.tracer.trace_missed(&mut stats);
-                    missed
-                };
-            }
+                },
+                |_| missed,
+            );
+            self.tracer.count_missed(&mut stats, off);
             send_row(line, rgb565, &mut sink).map_err(FrameError::Sink)?;
             stats.rows += 1;
         }
