@@ -430,32 +430,7 @@ impl RayCull {
         lines.fill([u16::MAX, 0]);
         let last_column = (self.width - 1) as f32;
         for (lo, hi) in boxes {
-            let (mut left, mut right) = (f32::INFINITY, f32::NEG_INFINITY);
-            let (mut top, mut bottom) = (f32::INFINITY, f32::NEG_INFINITY);
-            for k in 0..8 {
-                let pick = |bit: usize, l: f32, h: f32| if k >> bit & 1 == 0 { l } else { h };
-                let g = [
-                    pick(0, lo[0], hi[0]),
-                    pick(1, lo[1], hi[1]),
-                    pick(2, lo[2], hi[2]),
-                ];
-                let [px, py] = projector.pixel(g);
-                // Compares, not `f32::min` (a libm call on the
-                // Cortex-M4F); the positions are finite (the projector's
-                // depths are positive).
-                if px < left {
-                    left = px;
-                }
-                if px > right {
-                    right = px;
-                }
-                if py < top {
-                    top = py;
-                }
-                if py > bottom {
-                    bottom = py;
-                }
-            }
+            let [left, right, top, bottom] = projector.bounds(lo, hi);
             let [mx, my] = projector.margin;
             let (left, right) = (left - mx, right + mx);
             let (top, bottom) = (top - my, bottom + my);
@@ -645,15 +620,63 @@ impl Projector {
         })
     }
 
-    /// Grid point `g`'s pixel position, in `f32`.
+    /// The least and greatest pixel position across, and down, of the
+    /// eight corners of the box `lo..=hi`: `[left, right, top, bottom]`.
+    /// Each is a corner's position in `f32`, bit for bit: `(s, a, b)` is
+    /// each row's `((r₀·x + r₁·y) + r₂·z) + r₃`, its products and first
+    /// sums made once for the corners that share them; the position across
+    /// `a/s·W + w0` is non-decreasing in `a/s` (`W > 0`, each rounding
+    /// monotone) and the one down `b/s·(−H) + h0` non-increasing, so the
+    /// extremes are those of the quotients, scaled and offset once (the
+    /// offsets are not `−0`: no sum rounds to `−0`). Compares, not
+    /// `f32::min` (a libm call on the Cortex-M4F), two values at a time;
+    /// the positions are finite (the depths are positive). (Frames, for the
+    /// eight corners' positions made one by one: Cortex-M4F lcd 43.26 ->
+    /// 43.18 M instructions, base 11.21 -> 11.19 M; i486 base 16.94 ->
+    /// 16.89 M.)
     #[inline(always)]
-    fn pixel(&self, g: [f32; 3]) -> [f32; 2] {
-        let dot = |r: &[f32; 4]| r[0] * g[0] + r[1] * g[1] + r[2] * g[2] + r[3];
-        let (s, a, b) = (dot(&self.rows[0]), dot(&self.rows[1]), dot(&self.rows[2]));
-        [
-            a / s * self.scale[0] + self.offset[0],
-            b / s * self.scale[1] + self.offset[1],
-        ]
+    fn bounds(&self, lo: [f32; 3], hi: [f32; 3]) -> [f32; 4] {
+        let dots = |r: &[f32; 4]| -> [f32; 8] {
+            let (x, y, z) = (
+                [r[0] * lo[0], r[0] * hi[0]],
+                [r[1] * lo[1], r[1] * hi[1]],
+                [r[2] * lo[2], r[2] * hi[2]],
+            );
+            // Corner `k` at the high end along axis `b` when bit `b` is set.
+            let xy = [x[0] + y[0], x[1] + y[0], x[0] + y[1], x[1] + y[1]];
+            core::array::from_fn(|k| xy[k & 3] + z[k >> 2] + r[3])
+        };
+        let (s, a, b) = (
+            dots(&self.rows[0]),
+            dots(&self.rows[1]),
+            dots(&self.rows[2]),
+        );
+        let extremes = |n: [f32; 8]| -> (f32, f32) {
+            let q: [f32; 8] = core::array::from_fn(|k| n[k] / s[k]);
+            let (mut least, mut most) = if q[1] < q[0] {
+                (q[1], q[0])
+            } else {
+                (q[0], q[1])
+            };
+            for pair in [[q[2], q[3]], [q[4], q[5]], [q[6], q[7]]] {
+                let (l, m) = if pair[1] < pair[0] {
+                    (pair[1], pair[0])
+                } else {
+                    (pair[0], pair[1])
+                };
+                if l < least {
+                    least = l;
+                }
+                if m > most {
+                    most = m;
+                }
+            }
+            (least, most)
+        };
+        let ((qa_lo, qa_hi), (qb_lo, qb_hi)) = (extremes(a), extremes(b));
+        let across = |q: f32| q * self.scale[0] + self.offset[0];
+        let down = |q: f32| q * self.scale[1] + self.offset[1];
+        [across(qa_lo), across(qa_hi), down(qb_hi), down(qb_lo)]
     }
 }
 
@@ -1182,5 +1205,73 @@ mod tests {
         assert!(close(r.direction, Vec3::Z));
         // x0 = 0.5/4 - 0.5 = -0.375 -> x = -1.5; y0 = 0.5 - 0.25 = 0.25 -> y = 0.5.
         assert!(close(r.origin, Vec3::new(-1.5, 0.5, -5.0)), "{r:?}");
+    }
+
+    /// `Projector::bounds` against each corner's position computed on its
+    /// own (the sums in the order the proof counts them), bit for bit.
+    #[test]
+    fn projector_bounds_are_the_corners_extremes() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |lo: f32, hi: f32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            lo + (hi - lo) * ((seed >> 40) as f32 / (1u64 << 24) as f32)
+        };
+        for _ in 0..2000 {
+            let p = Projector {
+                rows: [
+                    [
+                        next(-0.3, 0.3),
+                        next(-0.3, 0.3),
+                        next(-0.3, 0.3),
+                        next(20.0, 40.0),
+                    ],
+                    [
+                        next(-2.0, 2.0),
+                        next(-2.0, 2.0),
+                        next(-2.0, 2.0),
+                        next(-9.0, 9.0),
+                    ],
+                    [
+                        next(-2.0, 2.0),
+                        next(-2.0, 2.0),
+                        next(-2.0, 2.0),
+                        next(-9.0, 9.0),
+                    ],
+                ],
+                scale: [next(1.0, 500.0), -next(1.0, 500.0)],
+                offset: [next(0.0, 250.0), next(0.0, 250.0)],
+                margin: [0.0; 2],
+            };
+            let lo = [next(0.0, 30.0), next(-1.0, 1.0), next(0.0, 30.0)];
+            let hi = [
+                lo[0] + next(0.0, 8.0),
+                lo[1] + next(0.0, 1.0),
+                lo[2] + next(0.0, 8.0),
+            ];
+            let (mut left, mut right) = (f32::INFINITY, f32::NEG_INFINITY);
+            let (mut top, mut bottom) = (f32::INFINITY, f32::NEG_INFINITY);
+            for k in 0..8 {
+                let g: [f32; 3] =
+                    core::array::from_fn(|b| if k >> b & 1 == 0 { lo[b] } else { hi[b] });
+                let dot = |r: &[f32; 4]| r[0] * g[0] + r[1] * g[1] + r[2] * g[2] + r[3];
+                let (s, a, b) = (dot(&p.rows[0]), dot(&p.rows[1]), dot(&p.rows[2]));
+                let (px, py) = (
+                    a / s * p.scale[0] + p.offset[0],
+                    b / s * p.scale[1] + p.offset[1],
+                );
+                left = left.min(px);
+                right = right.max(px);
+                top = top.min(py);
+                bottom = bottom.max(py);
+            }
+            let got = p.bounds(lo, hi).map(f32::to_bits);
+            assert_eq!(
+                got,
+                [left, right, top, bottom].map(f32::to_bits),
+                "{lo:?} {hi:?}"
+            );
+        }
     }
 }
