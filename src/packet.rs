@@ -52,7 +52,11 @@
 //! below it stopped starts there; the others take their quad's shared start
 //! (`Walk::walk_column_from`: a start past cells the flat walk culls keeps
 //! what the next ray of the column needs, the hit cell and a ray above the
-//! surface at every sample before it).
+//! surface at every sample before it). Those lanes too walk a build at a
+//! time where `walk_column_from` would walk them by `walk_hdda_moving`,
+//! each lane's stop recorded and its column state left as
+//! `walk_column_from` leaves them (`FromColumn`); the others walk on their
+//! own through it.
 //!
 //! `tests/modes.rs` checks identity (hits, and the cells visited) on
 //! packets of random, neighbouring and odd rays in every mode (and
@@ -67,8 +71,8 @@ use crate::real::Real;
 use crate::skip::SkipGrid;
 use crate::transform::GridTransform;
 use crate::traversal::{
-    nearest, nearest_in_column, Axis, ColumnState, Counters, GridHit, GridRay, LaneSource, Resume,
-    Traversal, Walk, WalkGrid,
+    nearest, nearest_in_column, Axis, ColumnStart, ColumnState, Counters, GridHit, GridRay,
+    LaneSource, Resume, Traversal, Walk, WalkGrid,
 };
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
@@ -454,12 +458,13 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
                 t_far: &t_far,
                 entry: (&i, &j, &t_near),
             };
-            Walk::walk_lanes(
+            Walk::walk_lanes::<false, _>(
                 field,
                 (found, &from_line),
                 (entries, &from_entry),
                 (up(0), up(2), rising),
                 &mut hits,
+                &mut [],
                 counters,
             );
         }
@@ -509,7 +514,40 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
         BVec4A::from_array([fresh[4], fresh[5], fresh[6], fresh[7]]),
     ];
     let shared = quad_starts(field, rays, &inv, (&i, &j), &t_far, fresh_bits, fresh_v);
-    for l in 0..LANES {
+    // The lanes whose walks `walk_from` takes by `walk_hdda_moving` (on a
+    // hierarchy, with strict boundaries) walk a build at a time
+    // (`walk_lanes`, as above), their stops recorded as `walk_from` records
+    // them, their line starts found lane-wise (`LineStarts`, the same as
+    // `line_start`'s): those from a line cell, and the resumed lanes whose
+    // line start (unused) kept the walk to level 1, in the builds for
+    // level 1; the others in those for the field's levels. The rest walk
+    // on their own, as before. (Level_rmnp, coherence on: 1,085.0 -> 998.6
+    // instructions a primary ray; lane by lane with each lane's line start
+    // from `line_start`, 1,106.5.)
+    let started = walked_bits & covered_bits;
+    let resumed = started & !fresh_bits;
+    let lines = LineStarts::of(
+        rays,
+        &inv,
+        (&i_f32, &j_f32),
+        &span,
+        (cells_u, cells_v),
+        &shared,
+    );
+    let (level1, levels, past) = if Walk::lanes_by_sign(field) {
+        let strict = started & lines.strict;
+        (
+            strict & lines.at & (resumed | lines.found),
+            strict & !lines.at & !(lines.past & !resumed),
+            strict & lines.past & !resumed,
+        )
+    } else {
+        (0, 0, 0)
+    };
+    let mut lanes_left = started & !(level1 | levels | past);
+    while lanes_left != 0 {
+        let l = lanes_left.trailing_zeros() as usize;
+        lanes_left &= lanes_left - 1;
         if let Some(start) = starts[l] {
             aim_lane(&mut walk, rays, &inv, t_far[l], l);
             let (column, t_near) = (&mut columns[l], t_near[l]);
@@ -519,7 +557,77 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
                 walk.walk_column_from(field, start, line, column, t_min, t_max, t_near, counters);
         }
     }
+    let mut stops = [None; LANES];
+    if level1 | levels != 0 {
+        let bits = |m: [BVec4A; 2]| m[0].bitmask() | m[1].bitmask() << 4;
+        let up = |k: usize| bits([d4[k][0].cmpgt(Vec4::ZERO), d4[k][1].cmpgt(Vec4::ZERO)]);
+        let rising = bits([d4[1][0].cmpge(Vec4::ZERO), d4[1][1].cmpge(Vec4::ZERO)]);
+        let source = FromColumn {
+            line: FromLine {
+                template: &walk,
+                rays,
+                inv: &inv,
+                t_far: &t_far,
+                lines: &lines,
+            },
+            starts: &starts,
+            resumed,
+        };
+        Walk::walk_lanes::<true, _>(
+            field,
+            (level1, &source),
+            (levels, &source),
+            (up(0), up(2), rising),
+            &mut hits,
+            &mut stops,
+            counters,
+        );
+    }
+    let mut lanes = level1 | levels | past;
+    while lanes != 0 {
+        let l = lanes.trailing_zeros() as usize;
+        lanes &= lanes - 1;
+        if let Some(start) = starts[l] {
+            let GridRay { origin, direction } = rays.grid_ray(l);
+            let range = (t_min, t_max, t_near[l]);
+            columns[l].keep(start, (origin, direction), stops[l], range);
+        }
+    }
     hits
+}
+
+/// The lanes of a packet with column states, for [`Walk::walk_lanes`]:
+/// those not `resumed` from a line cell where [`LineStarts`] has one (as
+/// [`FromLine`]), the others from their column starts, kept to level 1
+/// where their line start would have kept them (a resumed lane whose line
+/// start is a line cell, as [`Walk::line_start`] leaves its walk).
+struct FromColumn<'a> {
+    line: FromLine<'a>,
+    starts: &'a [Option<ColumnStart<f32>>; LANES],
+    resumed: u32,
+}
+
+impl LaneSource for FromColumn<'_> {
+    #[inline(always)]
+    fn lane(&self, l: usize, su: i32, sv: i32) -> (Walk<f32>, Resume<f32>) {
+        let line = self.line.lines.at >> l & 1 != 0;
+        if line && self.resumed >> l & 1 == 0 {
+            return self.line.lane(l, su, sv);
+        }
+        let FromLine {
+            template,
+            rays,
+            inv,
+            t_far,
+            ..
+        } = self.line;
+        let mut walk = signed_lane(template, rays, inv, t_far, l, su, sv);
+        if line {
+            walk.keep_to_level1();
+        }
+        let start = self.starts[l].expect("a started lane");
+        (walk, start.at())
+    }
 }
 
 /// The shared starts of the packet's quads (lanes 0–3 and 4–7), for the

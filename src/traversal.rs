@@ -596,6 +596,14 @@ pub(crate) struct ColumnStart<S> {
     keep: bool,
 }
 
+impl<S: Copy> ColumnStart<S> {
+    /// Where the walk starts unless at a line cell.
+    #[inline(always)]
+    pub(crate) fn at(&self) -> Resume<S> {
+        self.at
+    }
+}
+
 /// A cell of the walk and how the walk entered it: where a walk can be
 /// started again (see [`ColumnState`]).
 #[derive(Debug, Clone, Copy)]
@@ -1784,6 +1792,30 @@ impl<S: Real> ColumnState<S> {
         self.stop = None;
     }
 
+    /// The state [`Walk::walk_column_from`] leaves for ray `(o, d)`
+    /// started at `start`, whose walk stopped at `stop`, over `(t_min,
+    /// t_max, t_near)`: unless the start keeps none, this is left as it is.
+    #[inline(always)]
+    pub(crate) fn keep(
+        &mut self,
+        start: ColumnStart<S>,
+        (origin, direction): ([S; 3], [S; 3]),
+        stop: Option<Resume<S>>,
+        (t_min, t_max, t_near): (S, S, S),
+    ) {
+        if start.keep {
+            *self = ColumnState {
+                valid: true,
+                origin,
+                direction,
+                t_min,
+                t_max,
+                t_near,
+                stop,
+            };
+        }
+    }
+
     /// Where ray `(o, d)` may start instead of its own start, if the
     /// conditions of [`nearest_in_column`] hold.
     fn resume_for(
@@ -2300,8 +2332,7 @@ impl<S: Real> Walk<S> {
         } else {
             (row, beyond)
         };
-        self.start_level = 1;
-        self.max_level = 1;
+        self.keep_to_level1();
         Resume {
             i,
             j,
@@ -2403,18 +2434,16 @@ impl<S: Real> Walk<S> {
             Some(LineStart::At(at)) => self.walk_from(field, at, &mut stop, false, counters),
             _ => self.walk_from(field, start.at, &mut stop, false, counters),
         };
-        if start.keep {
-            *column = ColumnState {
-                valid: true,
-                origin: self.o,
-                direction: self.d,
-                t_min,
-                t_max,
-                t_near,
-                stop,
-            };
-        }
+        column.keep(start, (self.o, self.d), stop, (t_min, t_max, t_near));
         hit
+    }
+
+    /// The walk started at level 1 and climbing no higher, as from a
+    /// [`line_cell`](Self::line_cell).
+    #[inline(always)]
+    pub(crate) fn keep_to_level1(&mut self) {
+        self.start_level = 1;
+        self.max_level = 1;
     }
 
     /// The walk from `start` in `field`'s mode.
@@ -2494,7 +2523,9 @@ impl<S: Real> Walk<S> {
 impl Walk<f32> {
     /// [`walk_from`](Self::walk_from) of the lanes `lines` and `entries` of
     /// a packet: `from_line.lane(l)` (`from_entry.lane(l)`) is lane `l`'s
-    /// walk and start, its hit goes to `hits[l]`; `up_u`, `up_v` and
+    /// walk and start, its hit goes to `hits[l]` and, with `KEEP` (lanes
+    /// whose column states keep it), where its walk stopped to `stops[l]`
+    /// (which `KEEP` false leaves alone); `up_u`, `up_v` and
     /// `rising` are the lanes whose steps along `u`, `v` are positive and
     /// whose `d_y ≥ 0`. The lanes `lines`
     /// start from a [`line_cell`](Self::line_cell), those of `entries`
@@ -2516,12 +2547,13 @@ impl Walk<f32> {
     /// the starts of both kinds in one build, its loops took more
     /// instructions (bench512 1,010, level_rmnp 1,064).
     #[inline(always)]
-    pub(crate) fn walk_lanes<F: WalkGrid>(
+    pub(crate) fn walk_lanes<const KEEP: bool, F: WalkGrid>(
         field: &F,
         (lines, from_line): (u32, &impl LaneSource),
         (entries, from_entry): (u32, &impl LaneSource),
         (up_u, up_v, rising): (u32, u32, u32),
         hits: &mut [Option<GridHit<f32>>],
+        stops: &mut [Option<Resume<f32>>],
         counters: &mut Counters,
     ) {
         let skip = match (field.traversal(), field.skip()) {
@@ -2541,7 +2573,9 @@ impl Walk<f32> {
                     lanes &= lanes - 1;
                     let step = |up: u32| if up >> l & 1 != 0 { 1 } else { -1 };
                     let (mut walk, start) = lane.lane(l, step(up_u), step(up_v));
-                    hits[l] = walk.walk_from(field, start, &mut None, false, counters);
+                    let mut none = None;
+                    let stop = if KEEP { &mut stops[l] } else { &mut none };
+                    hits[l] = walk.walk_from(field, start, stop, false, counters);
                 }
             }
             return;
@@ -2559,8 +2593,8 @@ impl Walk<f32> {
                             & sign(up_v, $sv > 0)
                             & sign(rising, $rising);
                         if these != 0 {
-                            Walk::walk_lanes_in::<$level1, $su, $sv, $rising, F>(
-                                field, skip, $top, these, $lane, hits, counters,
+                            Walk::walk_lanes_in::<KEEP, $level1, $su, $sv, $rising, F>(
+                                field, skip, $top, these, $lane, hits, stops, counters,
                             );
                         }
                     };
@@ -2585,6 +2619,15 @@ impl Walk<f32> {
         }
     }
 
+    /// Whether [`walk_lanes`](Self::walk_lanes) walks the lanes of
+    /// `field` as `walk_from` walks them by `walk_hdda_moving` (a
+    /// hierarchy, in the builds by sign), for lanes whose boundaries are
+    /// strictly monotone on both axes.
+    #[inline(always)]
+    pub(crate) fn lanes_by_sign<F: WalkGrid>(field: &F) -> bool {
+        TWO_BUILDS && matches!(field.traversal(), Traversal::Hierarchy) && field.skip().is_some()
+    }
+
     /// The walks of [`walk_lanes`](Self::walk_lanes) of one build: `lanes`
     /// whose steps are `SU`, `SV` and whose `d_y ≥ 0` is `RISING`, each as
     /// `walk_hdda` walks it with `top` (1 for `LEVEL1`), in one call: the
@@ -2592,6 +2635,7 @@ impl Walk<f32> {
     #[allow(clippy::too_many_arguments)]
     #[inline(never)]
     fn walk_lanes_in<
+        const KEEP: bool,
         const LEVEL1: bool,
         const SU: i32,
         const SV: i32,
@@ -2604,6 +2648,7 @@ impl Walk<f32> {
         lanes: u32,
         lane: &impl LaneSource,
         hits: &mut [Option<GridHit<f32>>],
+        stops: &mut [Option<Resume<f32>>],
         counters: &mut Counters,
     ) {
         field.enter();
@@ -2615,12 +2660,14 @@ impl Walk<f32> {
                 let (walk, start) = lane.lane(l, SU, SV);
                 debug_assert!(walk.au.step == SU && walk.av.step == SV && walk.rising == RISING);
                 debug_assert!(hdda_counts_fit(&walk, top) && (top == 1) == LEVEL1);
+                let mut none = None;
+                let stop = if KEEP { &mut stops[l] } else { &mut none };
                 hits[l] = walk.signed::<SU, SV, RISING>().walk_hdda_in::<true, LEVEL1, false, _>(
                     field,
                     skip,
                     top,
                     start,
-                    &mut None,
+                    stop,
                     counters,
                 );
             }
