@@ -1920,20 +1920,32 @@ pub(crate) fn nearest_from_origin<F: WalkGrid>(
     counters: &mut Counters,
 ) -> Option<GridHit<f32>> {
     match moving_axes(&d) {
-        // `nearest`'s range checks pass for `[0, ∞)`.
-        Some(axes) => walk_over::<true, _, _>(
-            field,
-            slabs,
-            &d,
-            &axes,
-            0.0,
-            f32::INFINITY,
-            false,
-            None,
-            counters,
-        ),
+        Some(axes) => walk_from_origin::<true, _>(field, slabs, &d, &axes, counters),
         None => nearest_from_origin_parallel(field, slabs, d, counters),
     }
+}
+
+/// [`walk_over`] of a camera ray over `[0, ∞)` (not `any`), whose range
+/// passes `nearest`'s checks; `MOVING` as for `walk_over`.
+#[inline(always)]
+fn walk_from_origin<const MOVING: bool, F: WalkGrid>(
+    field: &F,
+    slabs: &OriginSlabs<f32>,
+    d: &[f32; 3],
+    axes: &[Axis<f32>; 3],
+    counters: &mut Counters,
+) -> Option<GridHit<f32>> {
+    walk_over::<MOVING, _, _>(
+        field,
+        slabs,
+        d,
+        axes,
+        0.0,
+        f32::INFINITY,
+        false,
+        None,
+        counters,
+    )
 }
 
 /// [`ray_axes`] of a direction each of whose components has a finite,
@@ -1985,18 +1997,7 @@ fn nearest_from_origin_parallel<F: WalkGrid>(
         };
         return nearest_rescaled(field, &ray, counters);
     }
-    // `nearest`'s range checks pass for `[0, ∞)`.
-    walk_over::<false, _, _>(
-        field,
-        slabs,
-        &d,
-        &axes,
-        0.0,
-        f32::INFINITY,
-        false,
-        None,
-        counters,
-    )
+    walk_from_origin::<false, _>(field, slabs, &d, &axes, counters)
 }
 
 /// [`nearest`] over `[0, ∞)` (not `any`) of a ray with a `tiny` direction
