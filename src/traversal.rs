@@ -971,10 +971,14 @@ impl<S: Real> Walk<S> {
     /// test again are those of every level whose block changed: up to the
     /// level of the highest bit in which the old and new cells differ
     /// ([`changed_level`], the closed form of "ascend while the parent
-    /// changed"). The `y` at a block step's `t` is the `y_b` the cull
-    /// computed at that same `t`. The water tests of both culls are skipped
-    /// for a field without water (`wet`), where the height tests imply
-    /// them.
+    /// changed"); the `ABOVE` builds test fewer of them (level 1 after a
+    /// cell, one level more at most after a block), and may test the
+    /// level-1 block from a cell inside it: a block test from where the
+    /// walk is (a cell it is exactly at, or a block's entry) covers the
+    /// rest of the block, whichever blocks are tested. The `y` at a block
+    /// step's `t` is the `y_b` the cull computed at that same `t`. The
+    /// water tests of both culls are skipped for a field without water
+    /// (`wet`), where the height tests imply them.
     #[allow(clippy::too_many_arguments)]
     #[inline(never)]
     fn walk_hdda<
@@ -1123,12 +1127,18 @@ impl<S: Real> Walk<S> {
                 // block's bounds against `c.y_a` before climbing costs as
                 // much as the failed tests it saves (+7 instructions per
                 // shadow ray, +4 per primary ray), even in a build of its
-                // own for shadow rays (+8); climbing only to level 1 for
-                // shadow rays saves 1% of their block tests and costs +32.)
+                // own for shadow rays (+8).) `ABOVE` walks, a rising ray
+                // just past cells near the surface, climb to level 1 only,
+                // and from a culled block one level at most (below): the
+                // coarser blocks around the surface it rises from seldom
+                // cull (bench512 full render, with the pre-test of a
+                // culled cell's block above: 1,561.5 -> 1,555.3 -> 1,552.3
+                // instructions a ray; before that test, climbing to level 1
+                // only cost +32 a shadow ray).
                 let moved = ((pi ^ c.i) | (pj ^ c.j)) as u32;
                 if moved >> log2 != 0 {
                     // (The level-1 block changed: `changed_level` ≥ 1.)
-                    level = if LEVEL1 {
+                    level = if LEVEL1 || ABOVE {
                         1
                     } else {
                         changed_level(moved, recip, top)
@@ -1244,6 +1254,8 @@ impl<S: Real> Walk<S> {
                     continue;
                 }
                 let next = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
+                // (`ABOVE`: one level up at most, see the cells' climb.)
+                let next = if ABOVE { next.min(level + 1) } else { next };
                 if next != level {
                     level = next;
                     continue 'walk;
