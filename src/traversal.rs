@@ -971,11 +971,11 @@ impl<S: Real> Walk<S> {
     /// test again are those of every level whose block changed: up to the
     /// level of the highest bit in which the old and new cells differ
     /// ([`changed_level`], the closed form of "ascend while the parent
-    /// changed"); the `ABOVE` builds test fewer of them (level 1 after a
-    /// cell, one level more at most after a block), and may test the
-    /// level-1 block from a cell inside it: a block test from where the
-    /// walk is (a cell it is exactly at, or a block's entry) covers the
-    /// rest of the block, whichever blocks are tested. The `y` at a block
+    /// changed"); the `ABOVE` builds test fewer of them (after a cell,
+    /// only the level-1 block, from that cell, where it is culled; after a
+    /// block, one level more at most): a block test from where the walk is
+    /// (a cell it is exactly at, or a block's entry) covers the rest of
+    /// the block, whichever blocks are tested. The `y` at a block
     /// step's `t` is the `y_b` the cull computed at that same `t`. The
     /// water tests of both culls are skipped for a field without water
     /// (`wet`), where the height tests imply them.
@@ -1097,26 +1097,27 @@ impl<S: Real> Walk<S> {
                     Visit::Miss => break 'walk None,
                     Visit::Next => {}
                     // `ABOVE` (a rising ray): past a cell culled as above,
-                    // still in the same level-1 block, the rest of that
-                    // block is culled exactly when the ray is above its
-                    // highest sample here (its whole cull, `y_low` being
-                    // `c.y_a`): then the block test is made from here
-                    // rather than cell by cell (the walk may test a block
-                    // from any cell it is exactly in; see `Walk::above`).
-                    // Measured (callgrind, full render): bench512
-                    // 1,564.0 -> 1,561.5 instructions a ray, rmnp_gradient
-                    // 1,479.3 -> 1,453.0, level_rmnp 1,403.2 -> 1,381.5;
-                    // Cortex-M4F lcd 42.85 -> 42.59 M, base 11.15 ->
-                    // 11.25 M (a test after every cell: bench512 1,565.6,
-                    // base 11.20 M).
+                    // the rest of the level-1 block the walk is in is culled
+                    // exactly when the ray is above that block's highest
+                    // sample here (its whole cull, `y_low` being `c.y_a`);
+                    // then it is tested from here, rather than crossed cell
+                    // by cell. These walks test no block otherwise (a
+                    // rising ray leaves the surface in cells whose blocks
+                    // seldom cull, least of all the coarser ones).
+                    // Measured (callgrind, full render, instructions a
+                    // ray): bench512 1,564.0 -> 1,544.3, rmnp_gradient
+                    // 1,479.3 -> 1,442.8, level_rmnp 1,403.2 -> 1,379.0.
+                    // Tried: testing from a culled cell only within the
+                    // block the walk was in, and climbing to level 1 (or as
+                    // `changed_level` says) on entering another block:
+                    // bench512 1,552.2 (1,561.5); testing from every cell
+                    // too: 1,553.7.
                     Visit::Above => {
-                        if (((pi ^ c.i) | (pj ^ c.j)) as u32) >> log2 == 0 {
-                            let (bi, bj) = ((c.i >> log2) as u32, (c.j >> log2) as u32);
-                            let (_, hi) = field.block_bounds(skip, 1, bi, bj);
-                            if c.y_a > S::from_raw_height(hi, mult) {
-                                level = 1;
-                                continue;
-                            }
+                        let (bi, bj) = ((c.i >> log2) as u32, (c.j >> log2) as u32);
+                        let (_, hi) = field.block_bounds(skip, 1, bi, bj);
+                        if c.y_a > S::from_raw_height(hi, mult) {
+                            level = 1;
+                            continue;
                         }
                     }
                 }
@@ -1127,18 +1128,12 @@ impl<S: Real> Walk<S> {
                 // block's bounds against `c.y_a` before climbing costs as
                 // much as the failed tests it saves (+7 instructions per
                 // shadow ray, +4 per primary ray), even in a build of its
-                // own for shadow rays (+8).) `ABOVE` walks, a rising ray
-                // just past cells near the surface, climb to level 1 only,
-                // and from a culled block one level at most (below): the
-                // coarser blocks around the surface it rises from seldom
-                // cull (bench512 full render, with the pre-test of a
-                // culled cell's block above: 1,561.5 -> 1,555.3 -> 1,552.3
-                // instructions a ray; before that test, climbing to level 1
-                // only cost +32 a shadow ray).
+                // own for shadow rays (+8); the `ABOVE` builds' test above
+                // is of another kind: it replaces this climb.)
                 let moved = ((pi ^ c.i) | (pj ^ c.j)) as u32;
-                if moved >> log2 != 0 {
+                if !ABOVE && moved >> log2 != 0 {
                     // (The level-1 block changed: `changed_level` ≥ 1.)
-                    level = if LEVEL1 || ABOVE {
+                    level = if LEVEL1 {
                         1
                     } else {
                         changed_level(moved, recip, top)
@@ -1254,7 +1249,9 @@ impl<S: Real> Walk<S> {
                     continue;
                 }
                 let next = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
-                // (`ABOVE`: one level up at most, see the cells' climb.)
+                // (`ABOVE`: one level up at most: bench512 full render
+                // 1,555.3 -> 1,552.3 instructions a ray, measured with the
+                // cells' climb to level 1.)
                 let next = if ABOVE { next.min(level + 1) } else { next };
                 if next != level {
                     level = next;
