@@ -975,10 +975,10 @@ impl<S: Real> Walk<S> {
     /// (after a cell culled as above, the level-1 block; after a block
     /// step, the block of the next level), and from where the walk is: a
     /// block test from there (a cell it is exactly at, or a block's entry)
-    /// covers the rest of the block, whichever blocks are tested. The `y` at a block
-    /// step's `t` is the `y_b` the cull computed at that same `t`. The
-    /// water tests of both culls are skipped for a field without water
-    /// (`wet`), where the height tests imply them.
+    /// covers the rest of the block, whichever blocks are tested. The `y`
+    /// at a block step's `t` is the `y_b` the cull computed at that same
+    /// `t`. The water tests of both culls are skipped for a field without
+    /// water (`wet`), where the height tests imply them.
     #[allow(clippy::too_many_arguments)]
     #[inline(never)]
     fn walk_hdda<
