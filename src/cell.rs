@@ -84,7 +84,7 @@ pub(crate) struct BoundaryPoint<S> {
 
 #[inline]
 fn clamp01<S: Real>(v: S) -> S {
-    v.max(S::ZERO).min(S::ONE)
+    v.clamp0_to(S::ONE)
 }
 
 /// The height at `f` (in `[0, 1]`) along the edge from `lo` to `hi`.

@@ -2145,8 +2145,9 @@ fn walk_over<const MOVING: bool, S: Real, F: WalkGrid>(
     }
     let (t_near, t_far) = span;
 
-    let entry_u = (o[0] + t_near * d[0]).max(S::ZERO).min(slabs.hi[0]);
-    let entry_v = (o[2] + t_near * d[2]).max(S::ZERO).min(slabs.hi[2]);
+    // (`max(0).min(hi)`; `hi` is the field's last vertex, at least 0.)
+    let entry_u = (o[0] + t_near * d[0]).clamp0_to(slabs.hi[0]);
+    let entry_v = (o[2] + t_near * d[2]).clamp0_to(slabs.hi[2]);
     let i = first_cell(entry_u, au.step, cells_u);
     let j = first_cell(entry_v, av.step, cells_v);
 
