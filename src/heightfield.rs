@@ -240,6 +240,127 @@ pub(crate) struct CullBlocks<I> {
     pub boxes: I,
 }
 
+/// The widened grid boxes of a skip pyramid's blocks
+/// ([`HeightField::cull_tree`]).
+#[derive(Clone, Copy)]
+struct BlockBoxes<'s> {
+    skip: &'s SkipGrid<'s>,
+    /// Cells across and down.
+    cells: [u32; 2],
+    log2: u32,
+    /// The widening of each axis.
+    wide: [f32; 3],
+    /// Height units a raw sample.
+    mult: u32,
+}
+
+impl BlockBoxes<'_> {
+    /// Blocks across and down of `level`.
+    fn blocks(&self, level: u32) -> (u32, u32) {
+        let side = self.side(level);
+        (self.cells[0].div_ceil(side), self.cells[1].div_ceil(side))
+    }
+
+    /// Cells a side of a block of `level`.
+    fn side(&self, level: u32) -> u32 {
+        1 << (self.log2 * level)
+    }
+
+    /// Block `(bi, bj)` of `level` (`side` cells a side, as `side` gives
+    /// it): its cells' box from its lowest to its highest sample, widened.
+    #[inline(always)]
+    fn grid_box(&self, level: u32, side: u32, bi: u32, bj: u32) -> GridBox {
+        let [cells_u, cells_v] = self.cells;
+        let [wx, wy, wz] = self.wide;
+        let height = |raw: u32| (raw * self.mult) as f32 * (1.0 / 65536.0);
+        let (raw_lo, raw_hi) = self.skip.raw_bounds(level as u8, bi, bj);
+        let (x0, x1) = (bi * side, ((bi + 1) * side).min(cells_u));
+        let (z0, z1) = (bj * side, ((bj + 1) * side).min(cells_v));
+        (
+            [x0 as f32 - wx, height(raw_lo) - wy, z0 as f32 - wz],
+            [x1 as f32 + wx, height(raw_hi) + wy, z1 as f32 + wz],
+        )
+    }
+}
+
+/// A field's blocks, coarse to fine, for the skyline of a camera that sees
+/// some of the field's box from behind
+/// (`RayCull::with_skyline_behind`, [`HeightField::cull_tree`]).
+pub(crate) struct CullTree<'f> {
+    /// The grid-to-world map.
+    pub to_world: DAffine3,
+    /// The largest magnitude of each grid coordinate of a box's corner.
+    pub extent: DVec3,
+    boxes: BlockBoxes<'f>,
+    /// The level of the blocks [`blocks`](Self::blocks) yields, and the
+    /// pyramid's coarsest.
+    finest: u32,
+    levels: u32,
+}
+
+impl CullTree<'_> {
+    /// The blocks of the finest level that lie within a block of each
+    /// coarser level for which `keep` holds (each box within its parent's:
+    /// a block's cells and samples are its parent's), depth first.
+    pub fn blocks<K: FnMut(&GridBox) -> bool>(&self, keep: K) -> TreeBlocks<'_, K> {
+        let (across, down) = self.boxes.blocks(self.levels);
+        let mut stack = [[0u32; 6]; crate::skip::MAX_LEVELS as usize];
+        stack[0] = [self.levels, 0, across, down, 0, 0];
+        TreeBlocks {
+            tree: self,
+            keep,
+            stack,
+            depth: 1,
+        }
+    }
+}
+
+/// [`CullTree::blocks`]' iterator: a stack of one frame a level, each its
+/// level, the first and end block across, the end block down and the
+/// next block `[level, i0, i1, j1, i, j]`.
+pub(crate) struct TreeBlocks<'t, K> {
+    tree: &'t CullTree<'t>,
+    keep: K,
+    stack: [[u32; 6]; crate::skip::MAX_LEVELS as usize],
+    depth: usize,
+}
+
+impl<K: FnMut(&GridBox) -> bool> Iterator for TreeBlocks<'_, K> {
+    type Item = GridBox;
+
+    fn next(&mut self) -> Option<GridBox> {
+        loop {
+            let [level, i0, i1, j1, i, j] = *self.stack[..self.depth].last()?;
+            if j >= j1 {
+                self.depth -= 1;
+                continue;
+            }
+            let next = if i + 1 < i1 { [i + 1, j] } else { [i0, j + 1] };
+            self.stack[self.depth - 1][4..].copy_from_slice(&next);
+            let boxes = &self.tree.boxes;
+            let b = boxes.grid_box(level, boxes.side(level), i, j);
+            if level <= self.tree.finest {
+                return Some(b);
+            }
+            if !(self.keep)(&b) {
+                continue;
+            }
+            let fan = 1u32 << boxes.log2;
+            let (across, down) = boxes.blocks(level - 1);
+            let (ci, cj) = (i * fan, j * fan);
+            self.stack[self.depth] = [
+                level - 1,
+                ci,
+                (ci + fan).min(across),
+                (cj + fan).min(down),
+                ci,
+                cj,
+            ];
+            self.depth += 1;
+        }
+    }
+}
+
 /// Coherence state for one image column of primary rays
 /// ([`HeightField::intersect_coherent`]): where the previous ray of the
 /// column stopped, and what is needed to tell whether the next may start
@@ -787,6 +908,20 @@ impl<'a> HeightField<'a> {
         from: DVec3,
         most: u64,
     ) -> Option<CullBlocks<impl Iterator<Item = GridBox> + '_>> {
+        let tree = self.cull_tree(from, most)?;
+        let (level, boxes) = (tree.finest, tree.boxes);
+        let ((across, down), side) = (boxes.blocks(level), boxes.side(level));
+        Some(CullBlocks {
+            to_world: tree.to_world,
+            extent: tree.extent,
+            boxes: (0..down)
+                .flat_map(move |bj| (0..across).map(move |bi| boxes.grid_box(level, side, bi, bj))),
+        })
+    }
+
+    /// [`cull_blocks`](Self::cull_blocks)' blocks, and those of the
+    /// pyramid's coarser levels, as a tree ([`CullTree::blocks`]).
+    pub(crate) fn cull_tree(&self, from: DVec3, most: u64) -> Option<CullTree<'_>> {
         let skip = self.skip.as_ref()?;
         let (lo, hi, (m, widened)) = self.cull_box(from)?;
         let (cells_u, cells_v) = (self.width - 1, self.depth - 1);
@@ -795,9 +930,8 @@ impl<'a> HeightField<'a> {
             let side = 1u64 << (log2 * level).min(40);
             u64::from(cells_u).div_ceil(side) * u64::from(cells_v).div_ceil(side)
         };
-        let level = (1..=u32::from(skip.levels())).find(|&l| blocks(l) <= most)?;
-        let side = 1u32 << (log2 * level);
-        let (across, down) = (cells_u.div_ceil(side), cells_v.div_ceil(side));
+        let levels = u32::from(skip.levels());
+        let finest = (1..=levels).find(|&l| blocks(l) <= most)?;
         let extent = lo.abs().max(hi.abs());
         // The widening per axis in `f32`, rounded up and enlarged by an
         // ulp of the extent: each box bound below is then one `f32` sum of
@@ -814,28 +948,22 @@ impl<'a> HeightField<'a> {
                 f
             }
         };
-        let (wx, wy, wz) = (
-            wide(m.x, extent.x),
-            wide(widened + m.y, extent.y),
-            wide(m.z, extent.z),
-        );
-        let mult = self.units_per_sample();
-        let height = move |raw: u32| (raw * mult) as f32 * (1.0 / 65536.0);
-        let boxes = (0..down).flat_map(move |bj| {
-            (0..across).map(move |bi| {
-                let (raw_lo, raw_hi) = skip.raw_bounds(level as u8, bi, bj);
-                let (x0, x1) = (bi * side, ((bi + 1) * side).min(cells_u));
-                let (z0, z1) = (bj * side, ((bj + 1) * side).min(cells_v));
-                (
-                    [x0 as f32 - wx, height(raw_lo) - wy, z0 as f32 - wz],
-                    [x1 as f32 + wx, height(raw_hi) + wy, z1 as f32 + wz],
-                )
-            })
-        });
-        Some(CullBlocks {
+        Some(CullTree {
             to_world: self.world_to_grid.exact.inverse(),
             extent: extent * (1.0 + 1.0 / 1_048_576.0),
-            boxes,
+            boxes: BlockBoxes {
+                skip,
+                cells: [cells_u, cells_v],
+                log2,
+                wide: [
+                    wide(m.x, extent.x),
+                    wide(widened + m.y, extent.y),
+                    wide(m.z, extent.z),
+                ],
+                mult: self.units_per_sample(),
+            },
+            finest,
+            levels,
         })
     }
 

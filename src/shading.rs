@@ -793,14 +793,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     /// packets: with the skyline, bands of 8 rows of rmnp_gradient cost 8
     /// instructions a pixel more).
     pub fn ray_cull(&self, camera: &Camera, skyline: Option<Range<u32>>) -> RayCull {
-        let field = match self.objects.as_slice() {
-            [only] => match *only.placed.primitive() {
-                Primitive::HeightField { field_index } => self.fields.get(field_index),
-                #[cfg(feature = "primitives")]
-                _ => None,
-            },
-            _ => None,
-        };
+        let field = self.only_field();
         let from = camera.location().as_dvec3();
         let cull = RayCull::new(camera, field.and_then(|f| f.cull_corners(from)));
         let Some(rows) = skyline else {
@@ -815,6 +808,41 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             Some(blocks) => {
                 cull.with_skyline(camera, &blocks.to_world, blocks.extent, blocks.boxes)
             }
+            None => cull,
+        }
+    }
+
+    /// The scene's one object if it is a height field.
+    #[inline(always)]
+    fn only_field(&self) -> Option<&HeightField<'a>> {
+        match self.objects.as_slice() {
+            [only] => match *only.placed.primitive() {
+                Primitive::HeightField { field_index } => self.fields.get(field_index),
+                #[cfg(feature = "primitives")]
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    /// [`ray_cull`](Self::ray_cull) without a skyline, but when some of
+    /// the field's box lies at or behind the camera plane (a level view
+    /// from within it: no hull to leave pixels out by), with the skyline of
+    /// the field's blocks seen from there for the rows `rows`, the only
+    /// ones it may then be asked about
+    /// (`RayCull::with_skyline_behind`): the blocks' tree, where only the
+    /// blocks near the rows' pixels are placed, the finest one for every 8
+    /// pixels of the image. Apart from `ray_cull`, which the firmware's
+    /// views from in front of the field use, whose render loop this code
+    /// would cost (Cortex-M4F lcd frame: 42.85 -> 42.93 M instructions).
+    pub fn ray_cull_behind(&self, camera: &Camera, rows: Range<u32>) -> RayCull {
+        let cull = self.ray_cull(camera, None);
+        let Some(field) = self.only_field().filter(|_| cull.behind()) else {
+            return cull;
+        };
+        let pixels = u64::from(camera.width()) * u64::from(camera.height());
+        match field.cull_tree(camera.location().as_dvec3(), (pixels / 8).max(64)) {
+            Some(tree) => cull.with_skyline_behind(camera, rows, &tree),
             None => cull,
         }
     }

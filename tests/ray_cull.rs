@@ -328,3 +328,84 @@ fn regression_rows_past_u16_max_are_not_left_out() {
     }
     assert!(hits_past > 100, "{hits_past} rows past 65,535 hit");
 }
+
+/// Level views (and pitched ones) from within the field's box, whose
+/// corners are not all in front of the camera: the skyline of the blocks
+/// seen from behind too (`RayCull::with_skyline_behind`), made for bands of
+/// rows as the renderers make it. Every ray it leaves out of its band
+/// finds nothing and traces as missed, and it leaves out most of the rays
+/// above the terrain.
+#[test]
+fn views_from_within_the_box_leave_out_the_sky_of_each_band() {
+    let mut rng = Rng::new(0xb011_d1ce);
+    let (mut sky, mut left_out) = (0u64, 0u64);
+    for case in 0..60 {
+        let (w, d) = (rng.int(9, 70), rng.int(9, 70));
+        let data = terrain(&mut rng, w, d);
+        let height_scale = rng.range(0.05, 0.5);
+        let field = HeightField::new(Samples::U8(&data), w, d, HeightConvention::Gray8)
+            .unwrap()
+            .with_transform(Transform::scale(DVec3::new(1.0, height_scale, 1.3)).unwrap());
+        let layout = SkipLayout::pyramid(w, d, rng.int(1, 3) as u8);
+        let mut skip = vec![0; SkipGrid::bytes_needed_for(&field, layout).unwrap()];
+        SkipGrid::build(&field, layout, &mut skip).unwrap();
+        let fields = [field.with_skip(&skip).unwrap()];
+        // Within the box, at up to its top's height, looking level (or
+        // pitched a little) in any direction.
+        let eye = Vec3::new(
+            rng.range(0.05, 0.95) as f32,
+            (height_scale * rng.range(0.3, 1.0)) as f32,
+            rng.range(0.05, 1.25) as f32,
+        );
+        let heading = rng.range(0.0, std::f64::consts::TAU);
+        let pitch = if rng.chance(0.5) {
+            0.0
+        } else {
+            rng.range(-0.3, 0.3)
+        };
+        let look = DVec3::new(heading.sin(), pitch, heading.cos());
+        let (width, height) = (rng.int(8, 90), rng.int(8, 60));
+        let model = scene(
+            CameraDesc {
+                location: eye,
+                look_at: eye + look.as_vec3(),
+                right: Vec3::new(width as f32 / height as f32, 0.0, 0.0),
+                angle: Some(rng.range(20.0, 100.0) as f32),
+                ..CameraDesc::default()
+            },
+            Vec3::new(0.5, 0.7, 0.9),
+            case % 4,
+        );
+        let camera = Camera::new(&model.camera, width, height).unwrap();
+        let tracer = Tracer::new(&model, &fields).unwrap();
+        let band = rng.int(1, 12);
+        for start in (0..height).step_by(band as usize) {
+            let rows = start..(start + band).min(height);
+            let cull = tracer.ray_cull_behind(&camera, rows.clone());
+            for y in rows {
+                for x in 0..width {
+                    let cam = camera.camera_ray(x as f32 + 0.5, y as f32 + 0.5);
+                    let hit = fields[0].intersect(&cam.walk, 0.0, f32::INFINITY);
+                    // The sky: rays above the eye's level that miss.
+                    let above = cam.walk.direction.y > 0.0;
+                    sky += (hit.is_none() && above) as u64;
+                    if cull.row(y).contains(x) {
+                        continue;
+                    }
+                    left_out += above as u64;
+                    assert!(
+                        hit.is_none(),
+                        "case {case}: pixel ({x}, {y}) of rows {start}.. left out, but {hit:?}"
+                    );
+                    let (traced_stats, missed_stats) =
+                        assert_traces_as_missed(case, &tracer, &camera, x, y);
+                    assert_eq!(traced_stats.hits, missed_stats.hits, "case {case}");
+                }
+            }
+        }
+    }
+    assert!(
+        left_out * 3 > sky,
+        "{left_out} of the {sky} rays above the eye's level that miss left out"
+    );
+}
