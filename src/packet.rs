@@ -519,8 +519,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     // (`walk_lanes`, as above), their stops recorded as `walk_from` records
     // them, their line starts found lane-wise (`LineStarts`, the same as
     // `line_start`'s): those from a line cell, and the resumed lanes whose
-    // line start (unused) kept the walk to level 1, in the builds for
-    // level 1; the others in those for the field's levels. The rest walk
+    // line start (unused) kept the walk to `line_top`'s levels, in the
+    // builds for those; the others in those for the field's levels. The rest walk
     // on their own, as before. (Level_rmnp, coherence on: 1,085.0 -> 998.6
     // instructions a primary ray; lane by lane with each lane's line start
     // from `line_start`, 1,106.5.)
@@ -598,8 +598,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
 
 /// The lanes of a packet with column states, for [`Walk::walk_lanes`]:
 /// those not `resumed` from a line cell where [`LineStarts`] has one (as
-/// [`FromLine`]), the others from their column starts, kept to level 1
-/// where their line start would have kept them (a resumed lane whose line
+/// [`FromLine`]), the others from their column starts, kept to
+/// `line_top`'s levels where their line start would have kept them (a resumed lane whose line
 /// start is a line cell, as [`Walk::line_start`] leaves its walk).
 struct FromColumn<'a> {
     line: FromLine<'a>,
@@ -623,7 +623,7 @@ impl LaneSource for FromColumn<'_> {
         } = self.line;
         let mut walk = signed_lane(template, rays, inv, t_far, l, su, sv);
         if line {
-            walk.keep_to_level1();
+            walk.start_past_line();
         }
         let start = self.starts[l].expect("a started lane");
         (walk, start.at())

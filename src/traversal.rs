@@ -116,6 +116,26 @@ impl core::ops::AddAssign for Counters {
     }
 }
 
+/// The coarsest level a walk started past a packet's shared start
+/// ([`Walk::line_start`]) uses, of a walk over `top` levels: 1, near the
+/// surface, where climbing back to coarser blocks rarely culls them
+/// (bench512, three levels: 36 instructions a primary ray fewer than the
+/// top; a level view, whose lanes that start so are mostly rays past the
+/// horizon, 0.5% more), but 2 over four levels or more, whose walks past
+/// the line cross many more level-1 blocks (the scaling view of
+/// `examples/bench.rs` (c), callgrind, instructions a primary ray in
+/// packets: a 4096² field's four levels, level 1 only 1,722.1, 2 1,540.8,
+/// 3 1,557.0, the top 1,575.6; block passes 16.1 -> 8.7 a ray; a 1024²
+/// field's three levels, level 1 1,167.9, 2 1,253.8).
+#[inline(always)]
+const fn line_top(top: u8) -> u8 {
+    if top >= 4 {
+        2
+    } else {
+        1
+    }
+}
+
 /// Whether this target runs in order, so instruction count is what to
 /// save: bare-metal Cortex-M and the x87 486.
 const IN_ORDER: bool = cfg!(any(target_os = "none", x87));
@@ -534,12 +554,9 @@ pub(crate) struct Walk<S> {
     /// rays, 1 where a packet found the coarser blocks culled
     /// ([`Walk::line_start`]).
     start_level: u32,
-    /// The coarsest level the hierarchical walk uses: the pyramid's top,
-    /// or 1 after a packet's shared start ([`Walk::line_start`]), near the
-    /// surface, where climbing back to coarser blocks rarely culls them
-    /// (bench512: 36 instructions a primary ray fewer; a level view, whose
-    /// lanes that start so are mostly rays past the horizon, 0.5% more).
-    max_level: u8,
+    /// The walk starts past a packet's shared start ([`Walk::line_start`]):
+    /// it uses the levels [`line_top`] allows, not the whole pyramid.
+    past_line: bool,
 }
 
 /// The lanes of a packet that [`Walk::walk_lanes`] walks: lane `l`'s walk
@@ -2208,7 +2225,7 @@ impl<S: Real> Walk<S> {
             wet: water_units != 0 || water > S::ZERO,
             v_strict: true,
             start_level: if any { 0 } else { u32::MAX },
-            max_level: u8::MAX,
+            past_line: false,
         }
     }
 
@@ -2227,7 +2244,7 @@ impl<S: Real> Walk<S> {
         self.rising = d[1] >= S::ZERO;
         self.v_strict = true;
         self.start_level = u32::MAX;
-        self.max_level = u8::MAX;
+        self.past_line = false;
     }
 
     /// [`walk_from`](Self::walk_from) `start`, inlined into its caller: the
@@ -2294,7 +2311,8 @@ impl<S: Real> Walk<S> {
     /// line, or at a vertex when the row before it is left at `t_l` too.
     /// The walk may start at any level and use any levels, and the packet
     /// culled the coarser blocks before the line (its last step was of
-    /// level 1): it starts at level 1 and climbs no higher.
+    /// level 1): it starts at level 1, and climbs no higher than
+    /// [`line_top`] allows.
     #[inline(always)]
     pub(crate) fn line_start(
         &mut self,
@@ -2334,7 +2352,7 @@ impl<S: Real> Walk<S> {
     /// its column's lines, and `t_line`, the parameter of `line`, is past
     /// `t_near` and before `t_far`): the cell beyond the line, in the row
     /// [`first_exit_past`] finds, as the flat walk enters it. The walk then
-    /// starts at level 1 and climbs no higher. Both axes move.
+    /// starts at level 1 ([`line_top`]). Both axes move.
     #[inline(always)]
     pub(crate) fn line_start_at(
         &mut self,
@@ -2362,7 +2380,7 @@ impl<S: Real> Walk<S> {
     /// The [`line_start_at`](Self::line_start_at) cell once its row is
     /// known: in the column (row, unless `along_u`) beyond `line`, and row
     /// `row`, entered at `t_line` across the line, or at a vertex
-    /// (`corner`). The walk then starts at level 1 and climbs no higher.
+    /// (`corner`). The walk then starts at level 1 ([`line_top`]).
     #[inline(always)]
     pub(crate) fn line_cell(
         &mut self,
@@ -2387,7 +2405,7 @@ impl<S: Real> Walk<S> {
         } else {
             (row, beyond)
         };
-        self.keep_to_level1();
+        self.start_past_line();
         Resume {
             i,
             j,
@@ -2493,12 +2511,12 @@ impl<S: Real> Walk<S> {
         hit
     }
 
-    /// The walk started at level 1 and climbing no higher, as from a
-    /// [`line_cell`](Self::line_cell).
+    /// The walk started at level 1 and climbing no higher than
+    /// [`line_top`] allows, as from a [`line_cell`](Self::line_cell).
     #[inline(always)]
-    pub(crate) fn keep_to_level1(&mut self) {
+    pub(crate) fn start_past_line(&mut self) {
         self.start_level = 1;
-        self.max_level = 1;
+        self.past_line = true;
     }
 
     /// The walk from `start` in `field`'s mode.
@@ -2532,7 +2550,14 @@ impl<S: Real> Walk<S> {
             // levels (bench512) one costs 27 a pixel more.
             (Traversal::Hierarchy, Some(s)) => {
                 let levels = if s.levels() <= 2 { 1 } else { s.levels() };
-                Some((s, levels.min(self.max_level)))
+                Some((
+                    s,
+                    if self.past_line {
+                        line_top(levels)
+                    } else {
+                        levels
+                    },
+                ))
             }
         };
         let (o, au, av) = (self.o, self.au, self.av);
@@ -2612,8 +2637,8 @@ impl Walk<f32> {
         counters: &mut Counters,
     ) {
         let skip = match (field.traversal(), field.skip()) {
-            // `walk_from`'s levels (the walks from entries have no
-            // `max_level` below the top).
+            // `walk_from`'s levels (those of the walks from entries; the
+            // lanes from lines take `line_top` of them).
             (Traversal::Blocks, Some(s)) if TWO_BUILDS => Some((s, 1)),
             (Traversal::Hierarchy, Some(s)) if TWO_BUILDS => {
                 Some((s, if s.levels() <= 2 { 1 } else { s.levels() }))
@@ -2664,8 +2689,10 @@ impl Walk<f32> {
                 build!(-1, -1, false);
             };
         }
-        if lines != 0 {
+        if lines != 0 && line_top(top) == 1 {
             builds!(true, lines, from_line, 1);
+        } else if lines != 0 {
+            builds!(false, lines, from_line, line_top(top));
         }
         if entries != 0 && top == 1 {
             builds!(true, entries, from_entry, 1);
