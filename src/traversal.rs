@@ -65,7 +65,6 @@
 use glam::Vec3A;
 
 use crate::cell::{Cell, Corners, Place};
-use crate::packet::PACKETS;
 use crate::ray::Triangle;
 use crate::real::Real;
 use crate::skip::{SampleGrid, SkipGrid, MAX_LEVELS};
@@ -116,6 +115,24 @@ impl core::ops::AddAssign for Counters {
         self.resumed += o.resumed;
     }
 }
+
+/// Whether renders trace their primary rays in packets: on targets whose
+/// vector unit runs the lane-wise set-up in a few instructions. Elsewhere
+/// the lanes run one after the other (glam's `Vec4` is four scalar ops),
+/// and the renderer traces ray by ray. Measured (session 7, `run-qemu.sh`
+/// frame instructions, packets on for `target_abi = "eabihf"` and
+/// `target_arch = "x86"`, the i486 program's `Renderer` in packets too):
+/// the walk got cheaper (M4F `thesis` `walk_hdda` 159.5 → 117.1 M) but
+/// the march and the lane set-up cost more than that, so every frame got
+/// dearer: Cortex-M4F base 17.69 → 20.28 M (+14.6%), lcd 63.49 → 72.19 M
+/// (+13.7%), thesis 245.27 → 263.60 M (+7.5%), `.text` 139 → 404 KB; i486
+/// base 26.80 → 28.99 M (+8.2%), lcd 96.24 → 103.37 M (+7.4%), thesis
+/// 368.74 → 378.92 M (+2.8%).
+pub(crate) const PACKETS: bool = cfg!(any(
+    target_feature = "sse2",
+    target_feature = "neon",
+    target_feature = "simd128"
+));
 
 /// The coarsest level a walk started past a packet's shared start
 /// ([`Walk::line_start`]) uses, of a walk over `top` levels: 1, near the
