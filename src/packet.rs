@@ -79,23 +79,9 @@ use crate::traversal::{
 /// take 1,922 instructions per bench512 primary ray, four 1,950.
 pub const LANES: usize = 8;
 
-/// Whether renders trace their primary rays in packets: on targets whose
-/// vector unit runs the lane-wise set-up in a few instructions. Elsewhere
-/// the lanes run one after the other (glam's `Vec4` is four scalar ops),
-/// and the renderer traces ray by ray. Measured (session 7, `run-qemu.sh`
-/// frame instructions, packets on for `target_abi = "eabihf"` and
-/// `target_arch = "x86"`, the i486 program's `Renderer` in packets too):
-/// the walk got cheaper (M4F `thesis` `walk_hdda` 159.5 → 117.1 M) but
-/// the march and the lane set-up cost more than that, so every frame got
-/// dearer: Cortex-M4F base 17.69 → 20.28 M (+14.6%), lcd 63.49 → 72.19 M
-/// (+13.7%), thesis 245.27 → 263.60 M (+7.5%), `.text` 139 → 404 KB; i486
-/// base 26.80 → 28.99 M (+8.2%), lcd 96.24 → 103.37 M (+7.4%), thesis
-/// 368.74 → 378.92 M (+2.8%).
-pub(crate) const PACKETS: bool = cfg!(any(
-    target_feature = "sse2",
-    target_feature = "neon",
-    target_feature = "simd128"
-));
+/// Whether renders trace their primary rays in packets (defined with the
+/// walks, which cap the levels of lanes started past a line only then).
+pub(crate) use crate::traversal::PACKETS;
 
 /// One `f32` per lane.
 pub type Lanes = [f32; LANES];
@@ -519,8 +505,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     // (`walk_lanes`, as above), their stops recorded as `walk_from` records
     // them, their line starts found lane-wise (`LineStarts`, the same as
     // `line_start`'s): those from a line cell, and the resumed lanes whose
-    // line start (unused) kept the walk to level 1, in the builds for
-    // level 1; the others in those for the field's levels. The rest walk
+    // line start (unused) kept the walk to `line_top`'s levels, in the
+    // builds for those; the others in those for the field's levels. The rest walk
     // on their own, as before. (Level_rmnp, coherence on: 1,085.0 -> 998.6
     // instructions a primary ray; lane by lane with each lane's line start
     // from `line_start`, 1,106.5.)
@@ -598,8 +584,8 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
 
 /// The lanes of a packet with column states, for [`Walk::walk_lanes`]:
 /// those not `resumed` from a line cell where [`LineStarts`] has one (as
-/// [`FromLine`]), the others from their column starts, kept to level 1
-/// where their line start would have kept them (a resumed lane whose line
+/// [`FromLine`]), the others from their column starts, kept to
+/// `line_top`'s levels where their line start would have kept them (a resumed lane whose line
 /// start is a line cell, as [`Walk::line_start`] leaves its walk).
 struct FromColumn<'a> {
     line: FromLine<'a>,
@@ -623,7 +609,7 @@ impl LaneSource for FromColumn<'_> {
         } = self.line;
         let mut walk = signed_lane(template, rays, inv, t_far, l, su, sv);
         if line {
-            walk.keep_to_level1();
+            walk.start_past_line();
         }
         let start = self.starts[l].expect("a started lane");
         (walk, start.at())

@@ -116,6 +116,44 @@ impl core::ops::AddAssign for Counters {
     }
 }
 
+/// Whether renders trace their primary rays in packets: on targets whose
+/// vector unit runs the lane-wise set-up in a few instructions. Elsewhere
+/// the lanes run one after the other (glam's `Vec4` is four scalar ops),
+/// and the renderer traces ray by ray. Measured (session 7, `run-qemu.sh`
+/// frame instructions, packets on for `target_abi = "eabihf"` and
+/// `target_arch = "x86"`, the i486 program's `Renderer` in packets too):
+/// the walk got cheaper (M4F `thesis` `walk_hdda` 159.5 → 117.1 M) but
+/// the march and the lane set-up cost more than that, so every frame got
+/// dearer: Cortex-M4F base 17.69 → 20.28 M (+14.6%), lcd 63.49 → 72.19 M
+/// (+13.7%), thesis 245.27 → 263.60 M (+7.5%), `.text` 139 → 404 KB; i486
+/// base 26.80 → 28.99 M (+8.2%), lcd 96.24 → 103.37 M (+7.4%), thesis
+/// 368.74 → 378.92 M (+2.8%).
+pub(crate) const PACKETS: bool = cfg!(any(
+    target_feature = "sse2",
+    target_feature = "neon",
+    target_feature = "simd128"
+));
+
+/// The coarsest level a walk started past a packet's shared start
+/// ([`Walk::line_start`]) uses, of a walk over `top` levels: 1, near the
+/// surface, where climbing back to coarser blocks rarely culls them
+/// (bench512, three levels: 36 instructions a primary ray fewer than the
+/// top; a level view, whose lanes that start so are mostly rays past the
+/// horizon, 0.5% more), but 2 over four levels or more, whose walks past
+/// the line cross many more level-1 blocks (the scaling view of
+/// `examples/bench.rs` (c), callgrind, instructions a primary ray in
+/// packets: a 4096² field's four levels, level 1 only 1,722.1, 2 1,541.1,
+/// 3 1,557.0, the top 1,575.6; block passes 16.1 -> 8.7 a ray; a 1024²
+/// field's three levels, level 1 1,167.9, 2 1,253.8).
+#[inline(always)]
+const fn line_top(top: u8) -> u8 {
+    if top >= 4 {
+        2
+    } else {
+        1
+    }
+}
+
 /// Whether this target runs in order, so instruction count is what to
 /// save: bare-metal Cortex-M and the x87 486.
 const IN_ORDER: bool = cfg!(any(target_os = "none", x87));
@@ -535,10 +573,8 @@ pub(crate) struct Walk<S> {
     /// ([`Walk::line_start`]).
     start_level: u32,
     /// The coarsest level the hierarchical walk uses: the pyramid's top,
-    /// or 1 after a packet's shared start ([`Walk::line_start`]), near the
-    /// surface, where climbing back to coarser blocks rarely culls them
-    /// (bench512: 36 instructions a primary ray fewer; a level view, whose
-    /// lanes that start so are mostly rays past the horizon, 0.5% more).
+    /// or, marked 1, the level [`line_top`] allows after a packet's shared
+    /// start ([`Walk::line_start`]).
     max_level: u8,
 }
 
@@ -2295,7 +2331,8 @@ impl<S: Real> Walk<S> {
     /// line, or at a vertex when the row before it is left at `t_l` too.
     /// The walk may start at any level and use any levels, and the packet
     /// culled the coarser blocks before the line (its last step was of
-    /// level 1): it starts at level 1 and climbs no higher.
+    /// level 1): it starts at level 1, and climbs no higher than
+    /// [`line_top`] allows.
     #[inline(always)]
     pub(crate) fn line_start(
         &mut self,
@@ -2335,7 +2372,7 @@ impl<S: Real> Walk<S> {
     /// its column's lines, and `t_line`, the parameter of `line`, is past
     /// `t_near` and before `t_far`): the cell beyond the line, in the row
     /// [`first_exit_past`] finds, as the flat walk enters it. The walk then
-    /// starts at level 1 and climbs no higher. Both axes move.
+    /// starts at level 1 ([`line_top`]). Both axes move.
     #[inline(always)]
     pub(crate) fn line_start_at(
         &mut self,
@@ -2363,7 +2400,7 @@ impl<S: Real> Walk<S> {
     /// The [`line_start_at`](Self::line_start_at) cell once its row is
     /// known: in the column (row, unless `along_u`) beyond `line`, and row
     /// `row`, entered at `t_line` across the line, or at a vertex
-    /// (`corner`). The walk then starts at level 1 and climbs no higher.
+    /// (`corner`). The walk then starts at level 1 ([`line_top`]).
     #[inline(always)]
     pub(crate) fn line_cell(
         &mut self,
@@ -2388,7 +2425,7 @@ impl<S: Real> Walk<S> {
         } else {
             (row, beyond)
         };
-        self.keep_to_level1();
+        self.start_past_line();
         Resume {
             i,
             j,
@@ -2494,10 +2531,10 @@ impl<S: Real> Walk<S> {
         hit
     }
 
-    /// The walk started at level 1 and climbing no higher, as from a
-    /// [`line_cell`](Self::line_cell).
+    /// The walk started at level 1 and climbing no higher than
+    /// [`line_top`] allows, as from a [`line_cell`](Self::line_cell).
     #[inline(always)]
-    pub(crate) fn keep_to_level1(&mut self) {
+    pub(crate) fn start_past_line(&mut self) {
         self.start_level = 1;
         self.max_level = 1;
     }
@@ -2533,7 +2570,15 @@ impl<S: Real> Walk<S> {
             // levels (bench512) one costs 27 a pixel more.
             (Traversal::Hierarchy, Some(s)) => {
                 let levels = if s.levels() <= 2 { 1 } else { s.levels() };
-                Some((s, levels.min(self.max_level)))
+                // (Only packets start past a line: the firmware, without
+                // them, keeps the plain cap, 14 K instructions a Cortex-M4F
+                // base frame fewer.)
+                let cap = if PACKETS {
+                    self.max_level.max(line_top(levels))
+                } else {
+                    self.max_level
+                };
+                Some((s, levels.min(cap)))
             }
         };
         let (o, au, av) = (self.o, self.au, self.av);
@@ -2613,8 +2658,8 @@ impl Walk<f32> {
         counters: &mut Counters,
     ) {
         let skip = match (field.traversal(), field.skip()) {
-            // `walk_from`'s levels (the walks from entries have no
-            // `max_level` below the top).
+            // `walk_from`'s levels (those of the walks from entries; the
+            // lanes from lines take `line_top` of them).
             (Traversal::Blocks, Some(s)) if TWO_BUILDS => Some((s, 1)),
             (Traversal::Hierarchy, Some(s)) if TWO_BUILDS => {
                 Some((s, if s.levels() <= 2 { 1 } else { s.levels() }))
@@ -2665,8 +2710,10 @@ impl Walk<f32> {
                 build!(-1, -1, false);
             };
         }
-        if lines != 0 {
+        if lines != 0 && line_top(top) == 1 {
             builds!(true, lines, from_line, 1);
+        } else if lines != 0 {
+            builds!(false, lines, from_line, line_top(top));
         }
         if entries != 0 && top == 1 {
             builds!(true, entries, from_entry, 1);
