@@ -1095,6 +1095,25 @@ pub(crate) fn xorshift32(mut x: u32) -> impl FnMut() -> u32 {
 mod tests {
     use super::Real;
 
+    /// `check` on `count` bit patterns `stride` apart from +0, then on
+    /// every exponent with the mantissas around its ends and middle, both
+    /// signs (every power of two and its neighbours, zeros, subnormals,
+    /// infinities and NaNs).
+    fn for_spread_floats(count: u32, stride: u32, mut check: impl FnMut(f32)) {
+        let mut bits = 0u32;
+        for _ in 0..count {
+            check(f32::from_bits(bits));
+            bits = bits.wrapping_add(stride);
+        }
+        for e in 0..=255u32 {
+            for m in [0, 1, 2, 0x40_0000, 0x7f_fffe, 0x7f_ffff] {
+                for sign in [0, 1 << 31] {
+                    check(f32::from_bits(sign | e << 23 | m));
+                }
+            }
+        }
+    }
+
     /// The x87's conversions on the bits are the casts they replace, for
     /// every kind of input.
     #[test]
@@ -1111,19 +1130,7 @@ mod tests {
             assert_eq!(super::f32_to_i32_from_bits::<false>(s), s as i32, "{s:e}");
             assert_eq!(super::f32_to_i32_from_bits::<true>(s), floor(s), "{s:e}");
         };
-        let mut bits = 0u32;
-        for _ in 0..(1 << 22) {
-            check(f32::from_bits(bits));
-            bits = bits.wrapping_add(1021);
-        }
-        // Around every power of two and its neighbours, both signs.
-        for e in 0..=255u32 {
-            for m in [0, 1, 2, 0x40_0000, 0x7f_fffe, 0x7f_ffff] {
-                for sign in [0, 1 << 31] {
-                    check(f32::from_bits(sign | e << 23 | m));
-                }
-            }
-        }
+        for_spread_floats(1 << 22, 1021, check);
         for k in -300..=300 {
             for s in [k as f32, k as f32 + 0.5, k as f32 - 1e-3] {
                 check(s);
@@ -1155,18 +1162,7 @@ mod tests {
                 );
             }
         };
-        let mut bits = 0u32;
-        for _ in 0..(1 << 20) {
-            check(f32::from_bits(bits));
-            bits = bits.wrapping_add(4093);
-        }
-        for e in 0..=255u32 {
-            for m in [0, 1, 2, 0x40_0000, 0x7f_fffe, 0x7f_ffff] {
-                for sign in [0, 1 << 31] {
-                    check(f32::from_bits(sign | e << 23 | m));
-                }
-            }
-        }
+        for_spread_floats(1 << 20, 4093, check);
         for hi in bounds {
             for v in [hi, f32::from_bits(hi.to_bits() + 1), -0.0, 0.0, -hi] {
                 check(v);
