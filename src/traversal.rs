@@ -538,6 +538,25 @@ macro_rules! by_sample_type {
 /// 44.73 M, with `Cell::point_at`'s closures no longer inlined).
 const TYPED_INSIDE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
 
+/// The hierarchical walk leaves out the `max` with the entry parameter
+/// (`t_a`) of a cell visit's exit, and of a block pass's range end, after
+/// a visit (pass at the same level) where it was the exit (end) itself:
+/// `settled`. Then the cursor's `t_a` is that exit `e`; the exit taken
+/// was below `t_far` (else the walk ended) and not above the other axis's
+/// (the end's `t_block` likewise, the step then moving only crossed
+/// lines, one block on), and the exit along each axis is monotone in the
+/// line, so every candidate of the next exit (`t_far`, `tu`, `tv`) is at
+/// least `e`, and the `max` would give it. Unsettled are a walk's first
+/// visit, a visit after `locate`, and each level's first block pass.
+/// x87 only (its float compares and selects take ~10 instructions with
+/// their stack moves). The cell loop tests `settled` in a build of the
+/// visit for each state, in the `ABOVE` builds only: i486 base frame
+/// 16,340,674 -> 16,065,336 instructions (block passes alone 16,251,729;
+/// the cells' builds in every walk 16,293,874: the primary rays' walk,
+/// its cell test inlined twice, 3.93 -> 4.09 M; one build choosing `t_b`
+/// on the flag at run time 16,145,801).
+const SETTLE: bool = cfg!(target_arch = "x86");
+
 /// The walks get a second build for rays moving along both axes (no
 /// parallel-axis tests in their loops), unless the `compact` feature asks
 /// for one build of each (less code; the same hits).
@@ -732,13 +751,19 @@ impl<S: Real> Walk<S> {
     /// whose parameter is below `t_far`, and `t_far` is at most the
     /// parameter of the field's far edge on that axis, computed by the same
     /// expression (monotone in the line), so the line is not past that edge.
+    ///
+    /// `SETTLED`: the cursor was left by a visit whose exit parameter was
+    /// not below its entry's (`settled`, which the other builds set): then
+    /// neither is this one's (see [`SETTLE`]), and `t_b` is the exit's
+    /// without the `max`.
     #[inline(always)]
-    fn visit<const MOVING: bool, const ABOVE: bool, F: WalkGrid>(
+    fn visit<const MOVING: bool, const ABOVE: bool, const SETTLED: bool, F: WalkGrid>(
         &self,
         field: &F,
         c: &mut Cursor<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
+        settled: &mut bool,
     ) -> Visit<S> {
         let (o, d) = (self.o, self.d);
         let (au, av) = (&self.au, &self.av);
@@ -753,7 +778,18 @@ impl<S: Real> Walk<S> {
         } else {
             (tu, Exit::Corner)
         };
-        let t_b = t_exit.max(t_a);
+        // (`t_exit.max(t_a)`, and whether the exit is not below the entry.)
+        let t_b = if SETTLED {
+            t_exit
+        } else {
+            let late = t_a > t_exit;
+            *settled = !late;
+            if late {
+                t_a
+            } else {
+                t_exit
+            }
+        };
 
         // Raw samples: the extremes are taken before the conversion to
         // heights (monotone), which then happens twice, not four times.
@@ -871,7 +907,7 @@ impl<S: Real> Walk<S> {
         by_sample_type!(TYPED_INSIDE, field => {
             for _ in 0..max_steps {
                 counters.cells += 1;
-                match self.visit::<MOVING, false, _>(field, &mut c, stop, counters) {
+                match self.visit::<MOVING, false, false, _>(field, &mut c, stop, counters, &mut false) {
                     Visit::Hit(h) => return Some(h),
                     Visit::Miss => return None,
                     Visit::Next | Visit::Above => {}
@@ -973,7 +1009,7 @@ impl<S: Real> Walk<S> {
                 level -= 1;
             }
             counters.cells += 1;
-            match self.visit::<false, false, F>(field, &mut c, stop, counters) {
+            match self.visit::<false, false, false, F>(field, &mut c, stop, counters, &mut false) {
                 Visit::Hit(h) => return Some(h),
                 Visit::Miss => return None,
                 Visit::Next | Visit::Above => {}
@@ -1109,6 +1145,8 @@ impl<S: Real> Walk<S> {
         // axis it crossed; the other coordinate unchanged), and `side` says
         // how the block was entered.
         let mut exact = true;
+        // The cursor was left by a settled visit ([`SETTLE`]).
+        let mut settled = false;
         let mut side = Exit::U;
         // Visiting cells skips none, so the walk may start at any level.
         let mut level = self.start_level.min(top);
@@ -1128,7 +1166,24 @@ impl<S: Real> Walk<S> {
             while level == 0 {
                 cells += 1;
                 let (pi, pj) = (c.i, c.j);
-                match self.visit::<MOVING, ABOVE, F>(field, &mut c, stop, counters) {
+                let visit = if SETTLE && ABOVE && settled {
+                    self.visit::<MOVING, ABOVE, true, F>(
+                        field,
+                        &mut c,
+                        stop,
+                        counters,
+                        &mut settled,
+                    )
+                } else {
+                    self.visit::<MOVING, ABOVE, false, F>(
+                        field,
+                        &mut c,
+                        stop,
+                        counters,
+                        &mut settled,
+                    )
+                };
+                match visit {
                     Visit::Hit(h) => break 'walk Some(h),
                     Visit::Miss => break 'walk None,
                     Visit::Next => {}
@@ -1193,6 +1248,9 @@ impl<S: Real> Walk<S> {
                 au.at_line::<MOVING>(u_edge, o[0]),
                 av.at_line::<MOVING>(v_edge, o[2]),
             );
+            // This level's last block pass ended where the next block's
+            // range starts, not past it ([`SETTLE`]).
+            let mut settled_b = false;
             loop {
                 blocks += 1;
                 // The far side of the block's last column (row), as
@@ -1204,7 +1262,19 @@ impl<S: Real> Walk<S> {
                 // so the cull's range ends at `t_far` and the walk ends or
                 // steps along the other axis exactly as with the edge itself.
                 let t_block = tu_edge.min(tv_edge);
-                let t_end = t_block.min(t_far).max(c.t_a);
+                let t_lim = t_block.min(t_far);
+                // (`t_lim.max(c.t_a)`.)
+                let t_end = if SETTLE && settled_b {
+                    t_lim
+                } else {
+                    let late = c.t_a > t_lim;
+                    settled_b = !late;
+                    if late {
+                        c.t_a
+                    } else {
+                        t_lim
+                    }
+                };
                 let y_b = o[1] + t_end * d[1];
                 let y_a = c.y_a;
                 // `y` is never NaN here (finite ray, finite `t`), so these are
@@ -1235,6 +1305,7 @@ impl<S: Real> Walk<S> {
                             log2,
                         );
                         exact = true;
+                        settled = false;
                     }
                     level -= 1;
                     continue 'walk;
