@@ -1401,8 +1401,14 @@ fn checked_start(
     let raw = field.cell_raw(x, z);
     let mult = field.units_per_sample();
     let c = Corners::<f32>::from_raw(raw, mult);
-    let fu = (u - x as f32).clamp(0.0, 1.0);
-    let fv = (v - z as f32).clamp(0.0, 1.0);
+    // In `[0, 1]` and exact, so not clamped (the clamps cost the i486 and
+    // the Cortex-M4F four float compares a shadow ray): the origin lies in
+    // the cell's column, on its side when `first_cell` stepped back or
+    // capped `x` (`u − x` is then 0 or 1); `x` is exact in `f32` (sides are
+    // at most 2^20 cells), and `x ≤ u ≤ x + 1 ≤ 2x` (or `x = 0`), so the
+    // difference is exact (Sterbenz).
+    let fu = u - x as f32;
+    let fv = v - z as f32;
     let gap = y - c.plane_height(fu, fv);
     let on_side = if side > 0.0 { gap > 0.0 } else { gap < 0.0 };
     let lowest = raw[0].min(raw[1]).min(raw[2]).min(raw[3]);

@@ -1829,7 +1829,10 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     let moving = (inv.abs().cmplt(Vec3A::INFINITY) & inv.cmpne(Vec3A::ZERO)).all();
     let (min_units, max_units) = field.units_range();
     let water = field.water_level();
-    let margin = 1.0 / 64.0 + o[1].abs() * f32::EPSILON * 16.0;
+    // `walk`'s `1/64 + |y|·ε·16` in one product: `·ε·16` is `·2^-19`
+    // exactly unless `|y|·ε` is subnormal, and then the sum is `1/64` both
+    // ways (the products are below 2^-99, far under half its ulp).
+    let margin = 1.0 / 64.0 + o[1].abs() * (f32::EPSILON * 16.0);
     let y_lo = Real::max(f32::from_height_units(min_units), water) - margin;
     let y_hi = f32::from_height_units(max_units) + margin;
     if !(moving && t_max >= 0.0 && y_lo <= o[1] && o[1] <= y_hi) {
@@ -1849,11 +1852,19 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;
     // The far ends of `slab`'s clips, in its order: each slab's larger
-    // parameter (its `b` after the swap), all three lanes at once.
+    // parameter (its `b` after the swap), all three lanes at once, from the
+    // side the direction points to. The same bits as the larger of the
+    // two sides' parameters: with `lo ≤ o ≤ hi` (the footprint, the height
+    // check above), `(lo − o)·inv ≤ 0 ≤ (hi − o)·inv` for `inv > 0`, so the
+    // larger is the `hi` side's (`hi`'s too when both are zeros); for
+    // `inv < 0` the order is reversed, and strict: one side is at least
+    // half the slab away (`1/64` or more: the slabs are a cell or more
+    // wide, the height slab twice the margin), and its product with `inv`
+    // (`|inv| ≥ 2^-128`) is not zero.
     let origin = Vec3A::from_array(*o);
-    let near_side = (Vec3A::new(0.0, y_lo, 0.0) - origin) * inv;
-    let far_side = (Vec3A::new(cells_u as f32, y_hi, cells_v as f32) - origin) * inv;
-    let far = Vec3A::select(near_side.cmpgt(far_side), near_side, far_side);
+    let lo = Vec3A::new(0.0, y_lo, 0.0);
+    let hi = Vec3A::new(cells_u as f32, y_hi, cells_v as f32);
+    let far = (Vec3A::select(inv.cmpgt(Vec3A::ZERO), hi, lo) - origin) * inv;
     let t_max = if t_max.is_finite() { t_max } else { f32::MAX };
     let t_far = Real::min(Real::min(Real::min(t_max, far.x), far.y), far.z);
     let mut walk = Walk::new(field, *o, *d, au, av, t_far, water, true);
