@@ -65,6 +65,7 @@
 use glam::Vec3A;
 
 use crate::cell::{Cell, Corners, Place};
+use crate::heightfield::MAX_SIDE;
 use crate::ray::Triangle;
 use crate::real::Real;
 use crate::skip::{SampleGrid, SkipGrid, MAX_LEVELS};
@@ -1158,7 +1159,8 @@ impl<S: Real> Walk<S> {
         // level or steps to the next block, always forward (as does
         // `locate`), and only a step climbs; so the walk makes at most
         // `cells_u + cells_v + 1` steps with at most `top` descents after
-        // each (`hdda_counts_fit`). A step out of the field would fail the
+        // each (fewer than 2^32 passes: see `MAX_SIDE` above `Walk`'s
+        // `impl`). A step out of the field would fail the
         // bounds checks of `cell_raw` or `walk_bounds`, never loop.
         // (Cortex-M4F base frame 13.29 -> 13.00 M without the count, its
         // tests and spills; bench512 callgrind 2,768 -> 2,713 a pixel.)
@@ -2281,20 +2283,15 @@ fn walk_over<const MOVING: bool, S: Real, F: WalkGrid>(
     }
 }
 
-/// Whether the passes of [`Walk::walk_hdda`] with `top` levels fit its
-/// `u32` counts (cheaper than 64-bit ones on 32-bit targets; every field
-/// the `f32` and fixed-point walks take fits): the walk makes at most
-/// `cells_u + cells_v + 1` steps, each a cell visit or a block step, and at
-/// most `top` descents after each. If not (`f64` walks of fields of
-/// hundreds of millions of cells per side) the ray takes the block-jumping
-/// walk, as exact.
-// (`x + 1 <= MAX`, not clippy's `x < MAX`: the same for these counts, not
-// to LLVM, whose i486 base frame then took 14 K instructions more.)
-#[allow(clippy::int_plus_one)]
-fn hdda_counts_fit<S>(walk: &Walk<S>, top: u8) -> bool {
-    let cells = walk.cells_u as u64 + walk.cells_v as u64 + 1;
-    cells * (top as u64 + 2) + 1 <= u32::MAX as u64
-}
+/// The passes of [`Walk::walk_hdda`] fit its `u32` counts (cheaper than
+/// 64-bit ones on 32-bit targets) for every field and every `top`: the walk
+/// makes at most `cells_u + cells_v + 1` steps, each a cell visit or a
+/// block step, and at most `top` descents after each, and a field has at
+/// most [`MAX_SIDE`] samples a side (`HeightField::new`, the only way to
+/// make one), so at most `(2^21 − 1)·(255 + 2) + 1` passes. Proved here at
+/// build time, not tested per ray (bench512: 10 instructions a shadow ray
+/// fewer).
+const _: () = assert!((2 * MAX_SIDE as u64 - 1) * (u8::MAX as u64 + 2) < u32::MAX as u64);
 
 impl<S: Real> Walk<S> {
     /// The walk of ray `(o, d)` over `field` up to `t_far`, along the
@@ -2675,7 +2672,7 @@ impl<S: Real> Walk<S> {
             // from the field), walk flat.
             let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
             let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
-            if u_strict && v_strict && hdda_counts_fit(self, top) {
+            if u_strict && v_strict {
                 return if TWO_BUILDS && au.step != 0 && av.step != 0 {
                     by_sample_type!(!TYPED_INSIDE, field => {
                         self.walk_hdda_moving(field, skip, top, start, stop, above, counters)
@@ -2716,11 +2713,7 @@ impl Walk<f32> {
     /// whose `d_y ≥ 0`. The lanes `lines`
     /// start from a [`line_cell`](Self::line_cell), those of `entries`
     /// from their entries, with boundary parameters strictly monotone on
-    /// both axes (`walk_from`'s tests, made by the caller). Without
-    /// `walk_from`'s test of the walk's counts (`hdda_counts_fit`), which
-    /// strictness implies: `f32`'s bounds the field's sides by 2^20
-    /// cells, and a walk over at most 255 levels then makes at most
-    /// `(2^21 + 1)·257` passes.
+    /// both axes (`walk_from`'s tests, made by the caller).
     ///
     /// The lanes of one build of the walk (the signs of the steps and of
     /// `d_y`, level 1 only or not) are walked in one call of it
@@ -2847,7 +2840,7 @@ impl Walk<f32> {
                 lanes &= lanes - 1;
                 let (walk, start) = lane.lane(l, SU, SV);
                 debug_assert!(walk.au.step == SU && walk.av.step == SV && walk.rising == RISING);
-                debug_assert!(hdda_counts_fit(&walk, top) && (top == 1) == LEVEL1);
+                debug_assert!((top == 1) == LEVEL1);
                 let mut none = None;
                 let stop = if KEEP { &mut stops[l] } else { &mut none };
                 hits[l] = walk.signed::<SU, SV, RISING>().walk_hdda_in::<true, LEVEL1, false, _>(
