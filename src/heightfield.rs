@@ -223,6 +223,9 @@ pub struct HeightField<'a> {
     world_normals: Option<&'a [u8]>,
     skip: Option<SkipGrid<'a>>,
     traversal: Traversal,
+    /// `traversal::walk_top(traversal, skip)`, made again when either
+    /// changes.
+    walk_top: u8,
     numeric: Numeric,
 }
 
@@ -447,6 +450,7 @@ impl<'a> HeightField<'a> {
             world_normals: None,
             skip: None,
             traversal: Traversal::default(),
+            walk_top: 0,
             numeric: Numeric::default(),
         };
         field.update_grid_transform();
@@ -502,6 +506,7 @@ impl<'a> HeightField<'a> {
     /// a field of this size and sample width.
     pub fn with_skip(mut self, bytes: &'a [u8]) -> Result<Self, SkipError> {
         self.skip = Some(SkipGrid::from_precomputed(bytes, &self)?);
+        self.walk_top = traversal::walk_top(self.traversal, self.skip.as_ref());
         Ok(self)
     }
 
@@ -651,6 +656,7 @@ impl<'a> HeightField<'a> {
     /// hits; without a skip grid every mode walks flat.
     pub fn with_traversal(mut self, mode: Traversal) -> Self {
         self.traversal = mode;
+        self.walk_top = traversal::walk_top(self.traversal, self.skip.as_ref());
         self
     }
 
@@ -2150,6 +2156,11 @@ impl WalkGrid for HeightField<'_> {
     #[inline(always)]
     fn skip(&self) -> Option<&SkipGrid<'_>> {
         self.skip.as_ref()
+    }
+
+    #[inline(always)]
+    fn walk_top(&self) -> u8 {
+        self.walk_top
     }
 }
 

@@ -135,6 +135,34 @@ pub(crate) const PACKETS: bool = cfg!(any(
     target_feature = "simd128"
 ));
 
+/// The levels of `skip` that [`Walk::walk_from`] walks over a field in
+/// mode `traversal`, before its cap ([`line_top`]): 0 (the walk is flat)
+/// without a grid or in [`Traversal::Flat`], 1 in [`Traversal::Blocks`],
+/// the grid's levels in [`Traversal::Hierarchy`]. A field keeps it
+/// ([`WalkGrid::walk_top`]), made again whenever its mode or grid change.
+///
+/// A walk over a pyramid of two levels uses the first only, in the walk's
+/// build for level 1, whose level arithmetic folds away; the second pays
+/// for a packet's march, not for a ray's own walk. Measured: shadow rays of
+/// the rmnp scenes (152 × 187 samples) 108 instructions a pixel fewer in
+/// rmnp_gradient.pov's full render, 67 in level_rmnp.pov's; primary rays
+/// too (level_rmnp.pov 92 fewer again), frames (`run-qemu.sh --base`)
+/// Cortex-M4F 16.23 -> 15.60 M, i486 25.99 -> 25.03 M, Cortex-M0 57.11 ->
+/// 56.47 M. Over three levels (bench512) one costs 27 a pixel more.
+pub(crate) fn walk_top(traversal: Traversal, skip: Option<&SkipGrid<'_>>) -> u8 {
+    match (traversal, skip) {
+        (Traversal::Flat, _) | (_, None) => 0,
+        (Traversal::Blocks, Some(_)) => 1,
+        (Traversal::Hierarchy, Some(s)) => {
+            if s.levels() <= 2 {
+                1
+            } else {
+                s.levels()
+            }
+        }
+    }
+}
+
 /// The coarsest level a walk started past a packet's shared start
 /// ([`Walk::line_start`]) uses, of a walk over `top` levels: 1, near the
 /// surface, where climbing back to coarser blocks rarely culls them
@@ -343,6 +371,8 @@ pub(crate) trait WalkGrid: SampleGrid {
     fn traversal(&self) -> Traversal;
     /// The skip grid, if one is attached.
     fn skip(&self) -> Option<&SkipGrid<'_>>;
+    /// [`walk_top`] of the mode and skip grid, kept with them.
+    fn walk_top(&self) -> u8;
 }
 
 /// A sample type of a field: `u8` or `u16`.
@@ -487,6 +517,11 @@ impl<F: WalkGrid, T: Sample> WalkGrid for Typed<'_, F, T> {
     #[inline(always)]
     fn skip(&self) -> Option<&SkipGrid<'_>> {
         self.field.skip()
+    }
+
+    #[inline(always)]
+    fn walk_top(&self) -> u8 {
+        self.field.walk_top()
     }
 }
 
@@ -2637,31 +2672,23 @@ impl<S: Real> Walk<S> {
         above: bool,
         counters: &mut Counters,
     ) -> Option<GridHit<S>> {
-        let skip = match (field.traversal(), field.skip()) {
-            (Traversal::Flat, _) | (_, None) => None,
-            (Traversal::Blocks, Some(s)) => Some((s, 1)),
-            // A walk over a pyramid of two levels uses the first only, in
-            // the walk's build for level 1, whose level arithmetic folds
-            // away; the second pays for a packet's march, not for a ray's
-            // own walk. Measured: shadow rays of the rmnp scenes (152 × 187
-            // samples) 108 instructions a pixel fewer in
-            // rmnp_gradient.pov's full render, 67 in level_rmnp.pov's;
-            // primary rays too (level_rmnp.pov 92 fewer again), frames
-            // (`run-qemu.sh --base`) Cortex-M4F 16.23 -> 15.60 M, i486
-            // 25.99 -> 25.03 M, Cortex-M0 57.11 -> 56.47 M. Over three
-            // levels (bench512) one costs 27 a pixel more.
-            (Traversal::Hierarchy, Some(s)) => {
-                let levels = if s.levels() <= 2 { 1 } else { s.levels() };
+        // The levels kept with the field (`walk_top`: one test here, not
+        // the mode's, the grid's and its levels'; bench512: 8 instructions
+        // a shadow ray fewer).
+        let top = field.walk_top();
+        let skip = match field.skip() {
+            Some(s) if top != 0 => {
                 // (Only packets start past a line: the firmware, without
                 // them, keeps the plain cap, 14 K instructions a Cortex-M4F
                 // base frame fewer.)
                 let cap = if PACKETS {
-                    self.max_level.max(line_top(levels))
+                    self.max_level.max(line_top(top))
                 } else {
                     self.max_level
                 };
-                Some((s, levels.min(cap)))
+                Some((s, top.min(cap)))
             }
+            _ => None,
         };
         let (o, au, av) = (self.o, self.au, self.av);
         let (cells_u, cells_v) = (self.cells_u, self.cells_v);
@@ -2735,13 +2762,11 @@ impl Walk<f32> {
         stops: &mut [Option<Resume<f32>>],
         counters: &mut Counters,
     ) {
-        let skip = match (field.traversal(), field.skip()) {
+        let top = field.walk_top();
+        let skip = match field.skip() {
             // `walk_from`'s levels (those of the walks from entries; the
             // lanes from lines take `line_top` of them).
-            (Traversal::Blocks, Some(s)) if TWO_BUILDS => Some((s, 1)),
-            (Traversal::Hierarchy, Some(s)) if TWO_BUILDS => {
-                Some((s, if s.levels() <= 2 { 1 } else { s.levels() }))
-            }
+            Some(s) if TWO_BUILDS && top != 0 => Some((s, top)),
             _ => None,
         };
         let Some((skip, top)) = skip else {
