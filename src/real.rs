@@ -341,8 +341,8 @@ impl Real for f32 {
     }
     /// `float_strict`'s conditions, implied by simpler ones checked in
     /// `f32` (no `f64` per ray on single-precision FPUs): with `|lo|`,
-    /// `|hi| ≤ 2^20` (the trait's condition, not tested: see `MAX_SIDE`
-    /// in `traversal`) and `|origin| < 2^20`, every
+    /// `|hi| ≤ 2^20` (the trait's condition, not tested: see
+    /// `heightfield::MAX_SIDE`) and `|origin| < 2^20`, every
     /// `|k − o| < 2^21`; with
     /// `2^-100 ≤ |inv| < 2^79` on top, `X·|inv| < 2^100`. (Origins 2^20 or
     /// more cells away answer `false`: they walk without the hierarchy.)

@@ -65,7 +65,6 @@
 use glam::Vec3A;
 
 use crate::cell::{Cell, Corners, Place};
-use crate::heightfield::MAX_SIDE;
 use crate::ray::Triangle;
 use crate::real::Real;
 use crate::skip::{SampleGrid, SkipGrid, MAX_LEVELS};
@@ -1194,8 +1193,8 @@ impl<S: Real> Walk<S> {
         // level or steps to the next block, always forward (as does
         // `locate`), and only a step climbs; so the walk makes at most
         // `cells_u + cells_v + 1` steps with at most `top` descents after
-        // each (fewer than 2^32 passes: see `MAX_SIDE` above `Walk`'s
-        // `impl`). A step out of the field would fail the
+        // each (fewer than 2^32 passes: see `heightfield::MAX_SIDE`). A
+        // step out of the field would fail the
         // bounds checks of `cell_raw` or `walk_bounds`, never loop.
         // (Cortex-M4F base frame 13.29 -> 13.00 M without the count, its
         // tests and spills; bench512 callgrind 2,768 -> 2,713 a pixel.)
@@ -2317,19 +2316,6 @@ fn walk_over<const MOVING: bool, S: Real, F: WalkGrid>(
         _ => walk.walk_from_entry(field, i, j, t_near, false, counters),
     }
 }
-
-/// The passes of [`Walk::walk_hdda`] fit its `u32` counts (cheaper than
-/// 64-bit ones on 32-bit targets) for every field and every `top`: the walk
-/// makes at most `cells_u + cells_v + 1` steps, each a cell visit or a
-/// block step, and at most `top` descents after each, and a field has at
-/// most [`MAX_SIDE`] samples a side (`HeightField::new`, the only way to
-/// make one), so at most `(2^21 − 1)·(255 + 2) + 1` passes. Proved here at
-/// build time, not tested per ray (with `f32`'s `strict_boundaries`
-/// untested bounds, 19 instructions a shadow ray fewer: bench512 full
-/// 1,506.9 -> 1,500.8 a ray, rmnp_gradient 1,438.7 -> 1,431.4, level_rmnp
-/// 1,266.9 -> 1,260.3; Cortex-M4F base frame 10.873 -> 10.727 M, i486
-/// 15.962 -> 15.814 M).
-const _: () = assert!((2 * MAX_SIDE as u64 - 1) * (u8::MAX as u64 + 2) < u32::MAX as u64);
 
 impl<S: Real> Walk<S> {
     /// The walk of ray `(o, d)` over `field` up to `t_far`, along the
