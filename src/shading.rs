@@ -265,6 +265,9 @@ pub struct Tracer<'a, const OBJECTS: usize> {
 struct CameraWalk {
     field_index: usize,
     slabs: OriginSlabs<f32>,
+    /// The field is the scene's one object, seen by a perspective camera:
+    /// a pixel's nearest hit is its walk's, without the objects' loop.
+    sole: bool,
 }
 
 /// A [`Tracer`] with a camera's rays' shared set-up made
@@ -304,7 +307,28 @@ impl<const OBJECTS: usize> CameraTracer<'_, '_, OBJECTS> {
         // Cortex-M4F's flash; `Primary::Camera` for the eager way, 0.15 M
         // instructions more in its base frame).
         let mut found = None;
-        let ray = if tracer.any_analytic || self.camera.projection() != Projection::Perspective {
+        let ray = if let Some(w) = self.walk.as_ref().filter(|w| w.sole) {
+            // `nearest_fields` for the one object, without its loop over
+            // the objects (settled once a frame in `camera_tracer`): the
+            // same hit and `t` (frames: Cortex-M4F lcd 42.11 -> 41.89 M
+            // instructions, base 10.93 -> 10.87 M; i486 base 16.34 ->
+            // 16.29 M).
+            let walk = self.camera.walk_ray(x, y);
+            let hit = tracer.fields[w.field_index].intersect_from_origin(&w.slabs, &walk, counters);
+            let Some(mut h) = hit else {
+                return tracer.trace_missed(stats);
+            };
+            let length = crate::math::length(walk.direction);
+            h.t *= length;
+            if !(h.t < f32::INFINITY) {
+                return tracer.trace_missed(stats);
+            }
+            found = Some((0, LocalHit::Field(h)));
+            Ray::new(
+                walk.origin,
+                crate::math::normalize_or_zero_by(walk.direction, length),
+            )
+        } else if tracer.any_analytic || self.camera.projection() != Projection::Perspective {
             let cam = self.camera.camera_ray(x, y);
             tracer.nearest_camera_local(&cam, None, &mut found, counters);
             cam.ray
@@ -413,12 +437,18 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
     pub fn camera_tracer(&self, camera: &Camera) -> CameraTracer<'_, 'a, OBJECTS> {
         let origin = camera.location();
+        let perspective = camera.projection() == Projection::Perspective;
+        let sole = perspective && self.objects.len() == 1;
         let walk = self.objects.iter().find_map(|obj| {
             let Primitive::HeightField { field_index } = *obj.placed.primitive() else {
                 return None;
             };
             let slabs = self.fields.get(field_index)?.origin_slabs(origin)?;
-            Some(CameraWalk { field_index, slabs })
+            Some(CameraWalk {
+                field_index,
+                slabs,
+                sole,
+            })
         });
         CameraTracer {
             tracer: self,
