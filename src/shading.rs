@@ -963,13 +963,21 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             };
             let lanes = lane_hints(&mut hints, self.fields.len(), field_index);
             let walk = &cams.walk;
-            field.packet_hits_each(walk, 0.0, f32::INFINITY, lanes, counters, |l, mut h| {
-                h.t *= cams.length[l];
-                if h.t < best_t[l] {
-                    best_t[l] = h.t;
-                    best[l] = Some((i, LocalHit::Field(h)));
-                }
-            });
+            field.packet_hits_each(
+                walk,
+                0.0,
+                f32::INFINITY,
+                lanes,
+                false,
+                counters,
+                |l, mut h| {
+                    h.t *= cams.length[l];
+                    if h.t < best_t[l] {
+                        best_t[l] = h.t;
+                        best[l] = Some((i, LocalHit::Field(h)));
+                    }
+                },
+            );
         }
         for (l, best) in best.iter_mut().enumerate() {
             self.nearest_analytic(&cams.ray.ray(l), best_t[l], best, counters);
