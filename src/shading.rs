@@ -265,9 +265,6 @@ pub struct Tracer<'a, const OBJECTS: usize> {
 struct CameraWalk {
     field_index: usize,
     slabs: OriginSlabs<f32>,
-    /// The field is the scene's one object, seen by a perspective camera:
-    /// a pixel's nearest hit is its walk's, without the objects' loop.
-    sole: bool,
 }
 
 /// A [`Tracer`] with a camera's rays' shared set-up made
@@ -281,6 +278,10 @@ pub struct CameraTracer<'t, 'a, const OBJECTS: usize> {
     /// The walk set-up over the first height field, from the camera's
     /// location.
     walk: Option<CameraWalk>,
+    /// That field when it is the scene's one object, seen by a perspective
+    /// camera: a pixel's nearest hit is its walk's, without the objects'
+    /// loop.
+    sole: Option<&'a HeightField<'a>>,
 }
 
 impl<const OBJECTS: usize> CameraTracer<'_, '_, OBJECTS> {
@@ -307,14 +308,14 @@ impl<const OBJECTS: usize> CameraTracer<'_, '_, OBJECTS> {
         // Cortex-M4F's flash; `Primary::Camera` for the eager way, 0.15 M
         // instructions more in its base frame).
         let mut found = None;
-        let ray = if let Some(w) = self.walk.as_ref().filter(|w| w.sole) {
+        let ray = if let (Some(field), Some(w)) = (self.sole, self.walk.as_ref()) {
             // `nearest_fields` for the one object, without its loop over
-            // the objects (settled once a frame in `camera_tracer`): the
-            // same hit and `t` (frames: Cortex-M4F lcd 42.11 -> 41.89 M
-            // instructions, base 10.93 -> 10.87 M; i486 base 16.34 ->
-            // 16.29 M).
+            // the objects (settled once a frame in `camera_tracer`, the
+            // field found there): the same hit and `t` (frames: Cortex-M4F
+            // lcd 42.11 -> 41.77 M instructions, base 10.93 -> 10.83 M;
+            // i486 base 16.34 -> 16.27 M).
             let walk = self.camera.walk_ray(x, y);
-            let hit = tracer.fields[w.field_index].intersect_from_origin(&w.slabs, &walk, counters);
+            let hit = field.intersect_from_origin(&w.slabs, &walk, counters);
             let Some(mut h) = hit else {
                 return tracer.trace_missed(stats);
             };
@@ -437,23 +438,22 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     #[cfg_attr(not(feature = "primitives"), allow(irrefutable_let_patterns))]
     pub fn camera_tracer(&self, camera: &Camera) -> CameraTracer<'_, 'a, OBJECTS> {
         let origin = camera.location();
-        let perspective = camera.projection() == Projection::Perspective;
-        let sole = perspective && self.objects.len() == 1;
         let walk = self.objects.iter().find_map(|obj| {
             let Primitive::HeightField { field_index } = *obj.placed.primitive() else {
                 return None;
             };
             let slabs = self.fields.get(field_index)?.origin_slabs(origin)?;
-            Some(CameraWalk {
-                field_index,
-                slabs,
-                sole,
-            })
+            Some(CameraWalk { field_index, slabs })
         });
+        let perspective = camera.projection() == Projection::Perspective;
+        let sole = walk
+            .filter(|_| perspective && self.objects.len() == 1)
+            .and_then(|w| self.fields.get(w.field_index));
         CameraTracer {
             tracer: self,
             camera: *camera,
             walk,
+            sole,
         }
     }
 
