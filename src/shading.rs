@@ -278,6 +278,10 @@ pub struct CameraTracer<'t, 'a, const OBJECTS: usize> {
     /// The walk set-up over the first height field, from the camera's
     /// location.
     walk: Option<CameraWalk>,
+    /// That field when it is the scene's one object, seen by a perspective
+    /// camera: a pixel's nearest hit is its walk's, without the objects'
+    /// loop.
+    sole: Option<&'a HeightField<'a>>,
 }
 
 impl<const OBJECTS: usize> CameraTracer<'_, '_, OBJECTS> {
@@ -304,7 +308,28 @@ impl<const OBJECTS: usize> CameraTracer<'_, '_, OBJECTS> {
         // Cortex-M4F's flash; `Primary::Camera` for the eager way, 0.15 M
         // instructions more in its base frame).
         let mut found = None;
-        let ray = if tracer.any_analytic || self.camera.projection() != Projection::Perspective {
+        let ray = if let (Some(field), Some(w)) = (self.sole, self.walk.as_ref()) {
+            // `nearest_fields` for the one object, without its loop over
+            // the objects (settled once a frame in `camera_tracer`, the
+            // field found there): the same hit and `t` (frames: Cortex-M4F
+            // lcd 42.11 -> 41.77 M instructions, base 10.93 -> 10.83 M;
+            // i486 base 16.34 -> 16.27 M).
+            let walk = self.camera.walk_ray(x, y);
+            let hit = field.intersect_from_origin(&w.slabs, &walk, counters);
+            let Some(mut h) = hit else {
+                return tracer.trace_missed(stats);
+            };
+            let length = crate::math::length(walk.direction);
+            h.t *= length;
+            if !(h.t < f32::INFINITY) {
+                return tracer.trace_missed(stats);
+            }
+            found = Some((0, LocalHit::Field(h)));
+            Ray::new(
+                walk.origin,
+                crate::math::normalize_or_zero_by(walk.direction, length),
+            )
+        } else if tracer.any_analytic || self.camera.projection() != Projection::Perspective {
             let cam = self.camera.camera_ray(x, y);
             tracer.nearest_camera_local(&cam, None, &mut found, counters);
             cam.ray
@@ -420,10 +445,15 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let slabs = self.fields.get(field_index)?.origin_slabs(origin)?;
             Some(CameraWalk { field_index, slabs })
         });
+        let perspective = camera.projection() == Projection::Perspective;
+        let sole = walk
+            .filter(|_| perspective && self.objects.len() == 1)
+            .and_then(|w| self.fields.get(w.field_index));
         CameraTracer {
             tracer: self,
             camera: *camera,
             walk,
+            sole,
         }
     }
 
@@ -933,13 +963,21 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             };
             let lanes = lane_hints(&mut hints, self.fields.len(), field_index);
             let walk = &cams.walk;
-            field.packet_hits_each(walk, 0.0, f32::INFINITY, lanes, counters, |l, mut h| {
-                h.t *= cams.length[l];
-                if h.t < best_t[l] {
-                    best_t[l] = h.t;
-                    best[l] = Some((i, LocalHit::Field(h)));
-                }
-            });
+            field.packet_hits_each(
+                walk,
+                0.0,
+                f32::INFINITY,
+                lanes,
+                false,
+                counters,
+                |l, mut h| {
+                    h.t *= cams.length[l];
+                    if h.t < best_t[l] {
+                        best_t[l] = h.t;
+                        best[l] = Some((i, LocalHit::Field(h)));
+                    }
+                },
+            );
         }
         for (l, best) in best.iter_mut().enumerate() {
             self.nearest_analytic(&cams.ray.ray(l), best_t[l], best, counters);

@@ -224,15 +224,11 @@ check_marks() {
         fail "$1: the frame markers ran ${marks:-?} times, not in pairs"
     fi
 }
-# The work counters every program prints; they must equal the host's
-# (`cells`: see `compare`).
+# The work counters every program prints; they must equal the host's.
 work_keys=(hits reflected_rays shadow_rays shadow_hits cells triangle_tests dropped_rays)
-# work LINE [SKIP]: LINE's work counters, without the counter SKIP.
 work() {
     local k w=""
-    for k in "${work_keys[@]}"; do
-        [[ "$k" == "${2:-}" ]] || w+=" $k=$(field "$k" "$1")"
-    done
+    for k in "${work_keys[@]}"; do w+=" $k=$(field "$k" "$1")"; done
     echo "${w# }"
 }
 
@@ -279,20 +275,8 @@ compare() {
         fail "$t frame checksum $sum != host ${host_sum[$scene]}"
     elif ! cmp -s "$ppm" "$out/frame-host-$scene.ppm"; then
         fail "$t frame bytes differ from the host frame ($ppm)"
-    elif [[ "$(work "$line" cells)" != "$(work "${host_work[$scene]}" cells)" ]]; then
+    elif [[ "$(work "$line")" != "${host_work[$scene]}" ]]; then
         fail "$t work counters differ from the host's: $(work "$line") != ${host_work[$scene]}"
-    else
-        # Cells: the host's, or more where this build walks shadow rays with
-        # the exact walk (the `compact` builds, and bare metal on pyramids
-        # of three levels or more, have no yes/no builds), which visits the
-        # cells the yes/no walks' block tests step over (never fewer).
-        local cells host_cells
-        cells="$(field cells "$line")" host_cells="$(field cells "${host_work[$scene]}")"
-        if ! ((cells >= host_cells)); then
-            fail "$t visits fewer cells than the host: $cells < $host_cells"
-        elif ((cells > host_cells)); then
-            echo "run-qemu.sh: note: $t cells=$cells, the host's $host_cells (shadow rays on the exact walk in this build)"
-        fi
     fi
 }
 # Output name of a run: target, +full for the full build, :scene unless base.
