@@ -10,6 +10,45 @@ use hfray::packet::{RayPacket, LANES};
 use hfray::traversal::GridHit;
 use hfray::{Counters, FieldHit, HeightField, Ray, Real, SkipGrid, SkipLayout, Traversal};
 
+/// Runs `f` at the x87 precision the i486 firmware renders at (the
+/// firmware README's "Numeric identity"): x87 registers round each
+/// operation to the control word's precision, not to the operand's type,
+/// so on x87 targets (i586, no SSE) the walks run here with it set to the
+/// sample type's significand (24 bits for `f32`, 53 for `f64`), and back
+/// to Linux's default (64) after. Elsewhere `f` just runs.
+#[cfg(all(target_arch = "x86", not(target_feature = "sse2")))]
+fn at_precision<R>(significand_bits: u32, f: impl FnOnce() -> R) -> R {
+    fn set(precision_control: u16) {
+        let cw: u16 = 0x007F | (precision_control << 8);
+        // SAFETY: loads the x87 control word from a live local, nothing
+        // else. Not `nomem`: a barrier for the memory accesses around it.
+        unsafe { std::arch::asm!("fldcw [{}]", in(reg) &cw, options(nostack)) };
+    }
+    set(match significand_bits {
+        0..=24 => 0b00,
+        25..=53 => 0b10,
+        _ => 0b11,
+    });
+    let r = std::hint::black_box(f());
+    set(0b11);
+    r
+}
+
+#[cfg(not(all(target_arch = "x86", not(target_feature = "sse2"))))]
+fn at_precision<R>(_significand_bits: u32, f: impl FnOnce() -> R) -> R {
+    f()
+}
+
+/// The significand of `S` for [`at_precision`] (fixed point: integer
+/// arithmetic, any).
+fn significand_bits<S: Real>() -> u32 {
+    if std::any::type_name::<S>() == "f64" {
+        53
+    } else {
+        24
+    }
+}
+
 pub struct Modes {
     grids: Vec<(SkipLayout, Vec<u8>)>,
     /// Queries answered (each by every mode).
@@ -96,9 +135,14 @@ impl Modes {
     ) -> Option<GridHit<S>> {
         self.queries += 1;
         let flat = field.clone().with_traversal(Traversal::Flat);
-        let reference = flat.intersect_in::<S>(o, d, t_min, t_max, counters);
+        let bits = significand_bits::<S>();
+        let reference = at_precision(bits, || {
+            flat.intersect_in::<S>(o, d, t_min, t_max, counters)
+        });
         for (name, r) in self.each(field, |g, _| {
-            g.intersect_in::<S>(o, d, t_min, t_max, &mut Counters::default())
+            at_precision(bits, || {
+                g.intersect_in::<S>(o, d, t_min, t_max, &mut Counters::default())
+            })
         }) {
             assert!(
                 same_grid_hit(&reference, &r),
@@ -128,9 +172,11 @@ impl Modes {
         let flat = field.clone().with_traversal(Traversal::Flat);
         let mut runs = vec![(
             "Flat".to_string(),
-            packet_hits(&flat, &packet, t_min, t_max),
+            at_precision(24, || packet_hits(&flat, &packet, t_min, t_max)),
         )];
-        runs.extend(self.each(field, |g, _| packet_hits(g, &packet, t_min, t_max)));
+        runs.extend(self.each(field, |g, _| {
+            at_precision(24, || packet_hits(g, &packet, t_min, t_max))
+        }));
         for (name, (hits, ts, counters, alone)) in runs {
             for l in 0..LANES {
                 assert!(
@@ -169,14 +215,20 @@ impl Modes {
     ) -> Option<FieldHit> {
         self.queries += 1;
         let flat = field.clone().with_traversal(Traversal::Flat);
-        let reference = flat.intersect(ray, t_min, t_max);
-        let occluded = flat.occludes(ray, t_min, t_max, &mut Counters::default());
+        let (reference, occluded) = at_precision(24, || {
+            (
+                flat.intersect(ray, t_min, t_max),
+                flat.occludes(ray, t_min, t_max, &mut Counters::default()),
+            )
+        });
         assert_eq!(occluded, reference.is_some());
         for (name, (r, occ)) in self.each(field, |g, _| {
-            (
-                g.intersect(ray, t_min, t_max),
-                g.occludes(ray, t_min, t_max, &mut Counters::default()),
-            )
+            at_precision(24, || {
+                (
+                    g.intersect(ray, t_min, t_max),
+                    g.occludes(ray, t_min, t_max, &mut Counters::default()),
+                )
+            })
         }) {
             let same = match (&reference, &r) {
                 (None, None) => true,
