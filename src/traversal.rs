@@ -595,6 +595,19 @@ const TYPED_INSIDE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch
 /// instructions a ray, rmnp_gradient 1,441.4 -> 1,467.3.
 const SETTLE: bool = cfg!(target_arch = "x86");
 
+/// `t.max(t_a)`, noting in `settled` whether `t` was not below `t_a`
+/// (a visit's exit, a block pass's range end: [`SETTLE`]).
+#[inline(always)]
+fn max_settling<S: Real>(t: S, t_a: S, settled: &mut bool) -> S {
+    let late = t_a > t;
+    *settled = !late;
+    if late {
+        t_a
+    } else {
+        t
+    }
+}
+
 /// The walks get a second build for rays moving along both axes (no
 /// parallel-axis tests in their loops), unless the `compact` feature asks
 /// for one build of each (less code; the same hits).
@@ -816,17 +829,10 @@ impl<S: Real> Walk<S> {
         } else {
             (tu, Exit::Corner)
         };
-        // (`t_exit.max(t_a)`, and whether the exit is not below the entry.)
         let t_b = if SETTLED {
             t_exit
         } else {
-            let late = t_a > t_exit;
-            *settled = !late;
-            if late {
-                t_a
-            } else {
-                t_exit
-            }
+            max_settling(t_exit, t_a, settled)
         };
 
         // Raw samples: the extremes are taken before the conversion to
@@ -1302,17 +1308,10 @@ impl<S: Real> Walk<S> {
                 // steps along the other axis exactly as with the edge itself.
                 let t_block = tu_edge.min(tv_edge);
                 let t_lim = t_block.min(t_far);
-                // (`t_lim.max(c.t_a)`.)
                 let t_end = if SETTLE && settled_b {
                     t_lim
                 } else {
-                    let late = c.t_a > t_lim;
-                    settled_b = !late;
-                    if late {
-                        c.t_a
-                    } else {
-                        t_lim
-                    }
+                    max_settling(t_lim, c.t_a, &mut settled_b)
                 };
                 let y_b = o[1] + t_end * d[1];
                 let y_a = c.y_a;
