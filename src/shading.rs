@@ -834,10 +834,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         // pixel left out saves about 900; a render of a band of rows makes
         // a cull of its own).
         let pixels = u64::from(camera.width()) * u64::from(rows.end.saturating_sub(rows.start));
-        match field.and_then(|f| f.cull_blocks(from, (pixels / 8).max(64))) {
-            Some(blocks) => {
-                cull.with_skyline(camera, &blocks.to_world, blocks.extent, blocks.boxes)
-            }
+        match field.and_then(|f| f.cull_tree(from, (pixels / 8).max(64))) {
+            Some(tree) => cull.with_skyline(camera, &tree),
             None => cull,
         }
     }
@@ -1522,6 +1520,99 @@ mod tests {
             yes_no.is_none(),
             "the yes/no walk needs the origin not below"
         );
+    }
+
+    /// `Tracer::ray_cull`'s skyline, whose blocks are placed only where
+    /// their parent may move a line (`RayCull::with_skyline`), against the
+    /// lines of every block: the same pixels traced, on random fields,
+    /// pyramids and cameras.
+    #[test]
+    fn skyline_of_kept_parents_is_that_of_every_block() {
+        use super::Tracer;
+        use crate::camera::{Camera, RayCull};
+        use crate::scene::{CameraDesc, Finish, Object, Pigment, Scene, Shape};
+        use crate::transform::Transform;
+        use glam::{DVec3, Vec3};
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut compared = 0;
+        for case in 0..600 {
+            let (w, d) = (2 + (next() * 70.0) as u32, 2 + (next() * 70.0) as u32);
+            let mut samples = [0u8; 72 * 72];
+            let (fx, fz, rough) = (next() * 0.5, next() * 0.5, next());
+            for (k, s) in samples[..(w * d) as usize].iter_mut().enumerate() {
+                let (x, z) = ((k as u32 % w) as f64, (k as u32 / w) as f64);
+                let v =
+                    128.0 + 90.0 * (x * fx).sin() * (z * fz).cos() + rough * 60.0 * (next() - 0.5);
+                *s = v.clamp(0.0, 255.0) as u8;
+            }
+            let scale = DVec3::new(1.0 + next(), 0.05 + next(), 1.0 + next());
+            let field = HeightField::new(
+                Samples::U8(&samples[..(w * d) as usize]),
+                w,
+                d,
+                HeightConvention::Gray8,
+            )
+            .unwrap()
+            .with_transform(Transform::scale(scale).unwrap());
+            let layout = SkipLayout::pyramid(w, d, 1 + (next() * 3.0) as u8);
+            let mut memory = [0u8; 8192];
+            let Ok(n) = SkipGrid::bytes_needed_for(&field, layout) else {
+                continue;
+            };
+            SkipGrid::build(&field, layout, &mut memory[..n]).unwrap();
+            let fields = [field.with_skip(&memory[..n]).unwrap()];
+            let centre = scale * 0.5;
+            let around = |r: &mut dyn FnMut() -> f64| DVec3::new(r() - 0.5, r() - 0.2, r() - 0.5);
+            let location = centre + around(&mut next) * 2.0 * scale * (1.0 + 4.0 * next());
+            let look_at = centre + around(&mut next) * scale;
+            let (width, height) = (1 + (next() * 300.0) as u32, 1 + (next() * 200.0) as u32);
+            let mut scene: Scene<'_, 1, 1, 0> = Scene {
+                camera: CameraDesc {
+                    location: location.as_vec3(),
+                    look_at: look_at.as_vec3(),
+                    right: Vec3::new(width as f32 / height as f32, 0.0, 0.0),
+                    angle: Some((20.0 + 100.0 * next()) as f32),
+                    ..CameraDesc::default()
+                },
+                ..Scene::default()
+            };
+            let _ = scene.objects.push(Object {
+                shape: Shape::HeightField {
+                    source: None,
+                    smooth: false,
+                    field_index: 0,
+                },
+                transform: Transform::IDENTITY,
+                pigment: Pigment::default(),
+                finish: Finish::default(),
+            });
+            let Ok(camera) = Camera::new(&scene.camera, width, height) else {
+                continue;
+            };
+            let tracer = Tracer::new(&scene, &fields).unwrap();
+            let pruned = tracer.ray_cull(&camera, Some(0..height));
+            let from = camera.location().as_dvec3();
+            let cull = RayCull::new(&camera, fields[0].cull_corners(from));
+            let most = (u64::from(width) * u64::from(height) / 8).max(64);
+            let Some(tree) = fields[0].cull_tree(from, most) else {
+                continue;
+            };
+            let every = cull.skyline(&camera, &tree, false);
+            for y in 0..height {
+                let (a, b) = (pruned.row(y), every.row(y));
+                for x in 0..width {
+                    assert_eq!(a.contains(x), b.contains(x), "case {case}: ({x}, {y})");
+                }
+            }
+            compared += 1;
+        }
+        assert!(compared > 300, "{compared} cases compared");
     }
 
     #[test]
