@@ -1160,19 +1160,39 @@ impl<'a> HeightField<'a> {
         self.packet_ts(rays, t_min, t_max, None, counters)
     }
 
-    /// [`intersect_t_packet`](Self::intersect_t_packet) with
-    /// [`intersect_coherent`](Self::intersect_coherent)'s hints, lane `l`
-    /// with `hints[l]`: the same `t`s, and the hints left as the rays one
-    /// by one would leave them.
-    pub(crate) fn intersect_t_coherent_packet(
+    /// [`intersect_t_packet`](Self::intersect_t_packet), or with `hints`
+    /// [`intersect_coherent`](Self::intersect_coherent)'s (lane `l` with
+    /// `hints[l]`, left as the rays one by one would leave them), as lanes:
+    /// each lane's `t`, infinite where it has none, and the bits of the
+    /// lanes that have one (for the tracer's lane-wise depths).
+    pub(crate) fn intersect_t_lanes(
         &self,
         rays: &RayPacket,
         t_min: f32,
         t_max: f32,
-        hints: [&mut ColumnHint; LANES],
+        hints: Option<[&mut ColumnHint; LANES]>,
         counters: &mut Counters,
-    ) -> [Option<f32>; LANES] {
-        self.packet_ts(rays, t_min, t_max, Some(hints), counters)
+    ) -> (packet::Lanes, u32) {
+        if !matches!(self.numeric, Numeric::F32) {
+            let (mut t, mut bits) = ([f32::INFINITY; LANES], 0);
+            for (l, hit) in self
+                .packet_ts(rays, t_min, t_max, hints, counters)
+                .iter()
+                .enumerate()
+            {
+                if let Some(x) = *hit {
+                    t[l] = x;
+                    bits |= 1 << l;
+                }
+            }
+            return (t, bits);
+        }
+        // (Each call's hits mapped where they are: moved out of a `match`
+        // first, they cost a `memcpy` a packet.)
+        match hints {
+            Some(hints) => t_lanes(self.grid_hits_coherent(rays, t_min, t_max, hints, counters)),
+            None => t_lanes(self.grid_hits_packet(rays, t_min, t_max, None, counters)),
+        }
     }
 
     /// The packet entries' hits: [`packet_hits_each`](Self::packet_hits_each)'s,
@@ -2338,6 +2358,25 @@ impl IntoU32Pair for (u16, u16) {
     fn into_u32(self) -> (u32, u32) {
         (self.0 as u32, self.1 as u32)
     }
+}
+
+/// The `t`s of `hits` (infinite where none) and the bits of the lanes that
+/// have one ([`HeightField::intersect_t_lanes`]).
+#[inline(always)]
+fn t_lanes(hits: [Option<GridHit<f32>>; LANES]) -> (packet::Lanes, u32) {
+    let (mut l, mut bits) = (0, 0);
+    let t = hits.map(|hit| {
+        let t = match hit {
+            Some(h) => {
+                bits |= 1 << l;
+                h.t
+            }
+            None => f32::INFINITY,
+        };
+        l += 1;
+        t
+    });
+    (t, bits)
 }
 
 #[cfg(test)]

@@ -77,13 +77,13 @@
 
 use core::ops::Range;
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use heapless::Vec;
 
 use crate::camera::{Camera, CameraPacket, CameraRay, RayCull};
 use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
-use crate::packet::LANES;
+use crate::packet::{self, LANES};
 use crate::ray::{FieldHit, Ray};
 use crate::real::Real;
 use crate::render_error::{RenderError, MAX_AA};
@@ -731,44 +731,53 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     ) -> [f32; LANES] {
         let mut counters = Counters::default();
         let mut best_t = [f32::INFINITY; LANES];
-        let mut hit = [false; LANES];
+        // The lanes with a hit.
+        let mut hit = 0u32;
         for obj in &self.objects {
             match *obj.placed.primitive() {
                 Primitive::HeightField { field_index } => {
                     let Some(field) = self.fields.get(field_index) else {
                         continue;
                     };
-                    let walked = match lane_hints(&mut hints, self.fields.len(), field_index) {
-                        Some(lanes) => field.intersect_t_coherent_packet(
-                            &cams.walk,
-                            0.0,
-                            f32::INFINITY,
-                            lanes,
-                            &mut counters,
-                        ),
-                        None => {
-                            field.intersect_t_packet(&cams.walk, 0.0, f32::INFINITY, &mut counters)
-                        }
+                    let lanes = lane_hints(&mut hints, self.fields.len(), field_index);
+                    let (t, walked) = field.intersect_t_lanes(
+                        &cams.walk,
+                        0.0,
+                        f32::INFINITY,
+                        lanes,
+                        &mut counters,
+                    );
+                    // Lane-wise, `best.min(t·length)` as x86-64 makes it
+                    // where `best` is not NaN (it never is): `t·length` if
+                    // below `best`, else `best`. A lane without a hit has
+                    // an infinite `t`, whose product (infinite or NaN:
+                    // `length` is not negative) is never below `best`.
+                    // (Bench512: this function 18.2 -> 11.6 instructions a
+                    // primary ray, 972.0 -> 968.5 in all.)
+                    let (t, length, best) = (
+                        packet::pair(&t),
+                        packet::pair(&cams.length),
+                        packet::pair(&best_t),
+                    );
+                    let half = |h: usize| {
+                        let x = t[h] * length[h];
+                        Vec4::select(x.cmplt(best[h]), x, best[h])
                     };
-                    for l in 0..LANES {
-                        if let Some(t) = walked[l] {
-                            best_t[l] = best_t[l].min(t * cams.length[l]);
-                            hit[l] = true;
-                        }
-                    }
+                    best_t = packet::unpair([half(0), half(1)]);
+                    hit |= walked;
                 }
                 #[cfg(feature = "primitives")]
                 _ => {
-                    for l in 0..LANES {
+                    for (l, best) in best_t.iter_mut().enumerate() {
                         if let Some(h) = obj.placed.intersect_local(
                             &cams.ray.ray(l),
                             0.0,
-                            best_t[l],
+                            *best,
                             self.fields,
                             &mut counters,
                         ) {
-                            best_t[l] = best_t[l].min(h.t());
-                            hit[l] = true;
+                            *best = best.min(h.t());
+                            hit |= 1 << l;
                         }
                     }
                 }
@@ -776,7 +785,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         }
         stats.primary_rays += LANES as u64;
         stats.add_work(&counters);
-        stats.hits += hit.iter().filter(|&&h| h).count() as u64;
+        stats.hits += u64::from(hit.count_ones());
         best_t
     }
 
