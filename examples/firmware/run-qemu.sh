@@ -148,6 +148,12 @@ i486_full_dir="$i486_dir/full"
 i486sx_dir="$i486_dir/fixed"
 
 # --- builds ---------------------------------------------------------------
+# Added to .cargo/config.toml's i486 flags for the x87 builds (the i486
+# program, plain and `full`): LLVM's PBQP register allocator with its
+# coalescing, whose x87 code moves values on the FPU stack less than the
+# default (greedy) allocator's (see .cargo/config.toml for the figures). Not
+# for the 486SX build (integers per pixel), which it makes slower.
+i486_x87_config='target.i586-unknown-linux-gnu.rustflags=["-C", "llvm-args=-regalloc=pbqp", "-C", "llvm-args=-pbqp-coalescing"]'
 echo "run-qemu.sh: building (log: $log)" >&2
 build() {
     local what="$1"
@@ -159,12 +165,14 @@ build "host reference" bash -c "cd '$root' && cargo build --release --example fi
 # invocation, and only the Cortex-M0 asks for hfray's `compact` walk.
 build "Cortex-M0 firmware" bash -c "cd '$here' && cargo build --release --target thumbv6m-none-eabi"
 build "Cortex-M4F firmware" bash -c "cd '$here' && cargo build --release --target thumbv7em-none-eabihf"
-build "i486" bash -c "cd '$here/i486' && cargo build --release --target i586-unknown-linux-gnu"
+# The x87 builds (not the 486SX's) with LLVM's PBQP register allocator
+# (`i486_x87_config` above).
+build "i486" bash -c "cd '$here/i486' && cargo build --release --target i586-unknown-linux-gnu --config '$i486_x87_config'"
 build "486SX" bash -c "cd '$here/i486' && cargo build --release --features fixed-frame --target-dir '$i486sx_dir' --target i586-unknown-linux-gnu"
 if ((all)); then
     build "Cortex-M0 firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv6m-none-eabi"
     build "Cortex-M4F firmware (full)" bash -c "cd '$here' && cargo build --release --features full --target-dir '$fw_full_dir' --target thumbv7em-none-eabihf"
-    build "i486 (full)" bash -c "cd '$here/i486' && cargo build --release --features full --target-dir '$i486_full_dir' --target i586-unknown-linux-gnu"
+    build "i486 (full)" bash -c "cd '$here/i486' && cargo build --release --features full --target-dir '$i486_full_dir' --target i586-unknown-linux-gnu --config '$i486_x87_config'"
     build "Cortex-M0 firmware (minimal)" bash -c "cd '$here' && cargo build --release --no-default-features --target-dir '$fw_min_dir' --target thumbv6m-none-eabi"
 fi
 plugin="$out/libinsn_count.so"

@@ -24,8 +24,9 @@
 //!   `close`, `exit`.
 //! - `memcpy`, `memmove`, `memset`, `memcmp`, `bcmp`: compiler_builtins for
 //!   `*-linux-gnu` expects libc to provide them. They are written in
-//!   assembly (`rep movsb`/`rep stosb`/`repe cmpsb`, all on the 486) because
-//!   Rust loops could be turned back into calls to themselves.
+//!   assembly (`rep movsd`/`rep stosd` and `rep movsb`/`rep stosb`, `repe
+//!   cmpsb`, all on the 486) because Rust loops could be turned back into
+//!   calls to themselves.
 //!
 //! # x87 precision
 //! The x87 keeps values in 80-bit registers; rustc's x87 code does not round
@@ -112,7 +113,13 @@ global_asm!(
     start = sym start,
 );
 
-// The C library functions the compiler emits calls to.
+// The C library functions the compiler emits calls to. `memcpy` and
+// `memset` move whole dwords (`rep movsd`, `rep stosd`), then the 0-3 bytes
+// left (`rep movsb`, `rep stosb`): a `rep` runs (and QEMU counts) one
+// instruction per element, and the frame's ~200 copies average ~155 bytes
+// (measured, i486 base frame: 15,386,388 -> 15,364,007 instructions; bytes
+// only before). Unaligned dwords are fine on the x86. `memmove` (not run in
+// the frame) and `memcmp` stay bytewise.
 global_asm!(
     ".globl memcpy",
     "memcpy:",
@@ -122,7 +129,12 @@ global_asm!(
     "mov esi, [esp + 16]",
     "mov ecx, [esp + 20]",
     "mov eax, edi",
+    "mov edx, ecx",
+    "shr ecx, 2",
     "cld",
+    "rep movsd",
+    "mov ecx, edx",
+    "and ecx, 3",
     "rep movsb",
     "pop edi",
     "pop esi",
@@ -157,12 +169,18 @@ global_asm!(
     "memset:",
     "push edi",
     "mov edi, [esp + 8]",
-    "mov eax, [esp + 12]",
+    // The byte in all four bytes of eax.
+    "movzx eax, byte ptr [esp + 12]",
+    "imul eax, eax, 0x01010101",
     "mov ecx, [esp + 16]",
-    "mov edx, edi",
+    "mov edx, ecx",
+    "shr ecx, 2",
     "cld",
+    "rep stosd",
+    "mov ecx, edx",
+    "and ecx, 3",
     "rep stosb",
-    "mov eax, edx",
+    "mov eax, [esp + 8]",
     "pop edi",
     "ret",
     "",
