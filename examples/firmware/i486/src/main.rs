@@ -286,7 +286,13 @@ fn frame_mark() {
     // marker never straddles a page: QEMU hands the counting plugin only the
     // first page's bytes of such an instruction, which then is no marker
     // (seen once, at 0x42affe: the frame closed after the set-up).
-    unsafe { asm!(".p2align 2", "xchg bx, bx", options(nostack, preserves_flags)) };
+    unsafe {
+        asm!(
+            ".p2align 2",
+            "xchg bx, bx",
+            options(nostack, preserves_flags)
+        )
+    };
 }
 
 fn fail(what: &str) -> ! {
