@@ -257,6 +257,30 @@ fn clip(
 /// whose bits are those of `2^23 + x` less those of `2^23`.
 const TWO_23: f32 = 8_388_608.0;
 
+/// The floor of each lane of `x`, exact, in `f32`: the nearest integer,
+/// `(x + bias) − bias` (`bias` [`TWO_23`] for `x` within `0..2^22`, one
+/// more for `−1..2^22`), less one where that is above `x`.
+/// The x87 floors each lane on its bits ([`Real::floor_i32`], the same
+/// integers): the sum rounds to an integer only when rounded to `f32`,
+/// which registers at a wider precision control than 24 bits (Linux's
+/// default, 64) do not, and the floor came out rounded to the nearest
+/// instead (a start cell off by one, a block run of the shared start below
+/// the field's first row; regression test
+/// `x87_exit_in_a_register_below_t_far_stepped_past_the_last_row`).
+#[inline(always)]
+fn floor4(x: Vec4, bias: f32) -> Vec4 {
+    #[cfg(not(x87))]
+    {
+        let n = (x + Vec4::splat(bias)) - Vec4::splat(bias);
+        n - Vec4::select(n.cmpgt(x), Vec4::ONE, Vec4::ZERO)
+    }
+    #[cfg(x87)]
+    {
+        let _ = bias;
+        Vec4::from_array(x.to_array().map(|v| v.floor_i32() as f32))
+    }
+}
+
 /// [`first_cell`] of each walked lane's entry coordinate `p` (within
 /// `0..=cells`, at most 2^20) along an axis on which its direction is `d`
 /// (not zero), lane-wise on `Vec4`s, with the same result: the floor of
@@ -271,9 +295,7 @@ fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> ([i32; LANES], [Vec4; 2]) {
     let (p, d) = (pair(p), pair(d));
     let one_if = |m: BVec4A| Vec4::select(m, Vec4::ONE, Vec4::ZERO);
     let half = |h: usize| {
-        // The nearest integer, then the floor.
-        let n = (p[h] + Vec4::splat(TWO_23)) - Vec4::splat(TWO_23);
-        let floor = n - one_if(n.cmpgt(p[h]));
+        let floor = floor4(p[h], TWO_23);
         let back = one_if(floor.cmpeq(p[h]) & d[h].cmple(Vec4::ZERO));
         (floor - back)
             .max(Vec4::ZERO)
@@ -789,8 +811,7 @@ impl LineStarts {
             let last = Vec4::select(up, Vec4::splat((cells_b - 1) as f32), Vec4::ZERO);
             let guess = o_b + t * d_b;
             let x = guess.max(first_b.min(last)).min(first_b.max(last));
-            let n = (x + Vec4::splat(TWO_23)) - Vec4::splat(TWO_23);
-            let k = n - Vec4::select(n.cmpgt(x), Vec4::ONE, Vec4::ZERO);
+            let k = floor4(x, TWO_23);
             let exit = |k: Vec4| ((k + off) - o_b) * inv_b;
             let (e_before, e_k) = (exit(k - step), exit(k));
             let found = e_k.cmpgt(t) & (k.cmpeq(first_b) | !e_before.cmpgt(t));
@@ -1148,10 +1169,7 @@ fn march<F: WalkGrid, const ALONG_U: bool, const UP: bool, const WIDE: bool>(
         // lanes are past its side; a NaN bound, `∞ − ∞`, is taken as the
         // side's, which leaves every row).
         let x = gt_or(lt_or(range + eps, upper), lower) * signs;
-        let bias = Vec4::splat(TWO_23 + 1.0);
-        let near = (x + bias) - bias;
-        let floor = near - Vec4::select(near.cmpgt(x), Vec4::ONE, Vec4::ZERO);
-        let bits = (floor + bias).to_array();
+        let bits = (floor4(x, TWO_23 + 1.0) + Vec4::splat(TWO_23 + 1.0)).to_array();
         let row = |l: usize| bits[l].to_bits() as i32 - (TWO_23.to_bits() as i32 + 1);
         let (row_lo, row_hi) = (row(2), row(0));
         let culled = row_lo > row_hi || {

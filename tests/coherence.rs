@@ -7,6 +7,7 @@
 
 mod common;
 
+use common::modes::at_precision;
 use common::{random_heights, terrain, Rng};
 use hfray::glam::{DVec3, Vec3};
 use hfray::{
@@ -102,9 +103,13 @@ fn check_columns(field: &HeightField<'_>, columns: &[Column], t_min: f32) -> (u6
     for column in columns {
         let mut hint = ColumnHint::new();
         for ray in &column.rays {
-            let plain = field.intersect(ray, t_min, f32::INFINITY);
-            let coherent =
-                field.intersect_coherent(ray, t_min, f32::INFINITY, &mut hint, &mut counters);
+            // (At the i486 firmware's x87 precision: see `at_precision`.)
+            let (plain, coherent) = at_precision(24, || {
+                (
+                    field.intersect(ray, t_min, f32::INFINITY),
+                    field.intersect_coherent(ray, t_min, f32::INFINITY, &mut hint, &mut counters),
+                )
+            });
             assert_eq!(
                 coherent,
                 plain,
@@ -254,8 +259,13 @@ fn hints_are_ignored_off_the_f32_path_and_across_fields() {
             // Alternate fields within the column: each answer must be the
             // plain walk of its own field.
             let f = if k % 2 == 0 { &a } else { &b };
-            let got = f.intersect_coherent(ray, 0.0, f32::INFINITY, &mut hint, &mut counters);
-            assert_eq!(got, f.intersect(ray, 0.0, f32::INFINITY));
+            let (got, want) = at_precision(24, || {
+                (
+                    f.intersect_coherent(ray, 0.0, f32::INFINITY, &mut hint, &mut counters),
+                    f.intersect(ray, 0.0, f32::INFINITY),
+                )
+            });
+            assert_eq!(got, want);
         }
     }
     assert_eq!(counters.resumed, 0, "alternating fields must not resume");
@@ -264,8 +274,13 @@ fn hints_are_ignored_off_the_f32_path_and_across_fields() {
     for column in &columns {
         let mut hint = ColumnHint::new();
         for ray in &column.rays {
-            let got = q.intersect_coherent(ray, 0.0, f32::INFINITY, &mut hint, &mut counters);
-            assert_eq!(got, q.intersect(ray, 0.0, f32::INFINITY));
+            let (got, want) = at_precision(53, || {
+                (
+                    q.intersect_coherent(ray, 0.0, f32::INFINITY, &mut hint, &mut counters),
+                    q.intersect(ray, 0.0, f32::INFINITY),
+                )
+            });
+            assert_eq!(got, want);
         }
     }
     assert_eq!(counters.resumed, 0);

@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::modes::Modes;
+use common::modes::{at_precision, Modes};
 use common::{random_heights, terrain, Rng};
 use glam::{DAffine3, DQuat, DVec3, Vec3};
 use hfray::packet::LANES;
@@ -222,9 +222,14 @@ fn hierarchy_visits_far_fewer_cells_on_a_large_field() {
             -0.25 - 0.3 * (k / 50) as f32 / 40.0,
             1.0,
         ];
-        let a = flat.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut cf);
-        let b = blocks.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut cb);
-        let c = hier.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut ch);
+        // (At the i486 firmware's x87 precision: see `at_precision`.)
+        let (a, b, c) = at_precision(24, || {
+            (
+                flat.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut cf),
+                blocks.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut cb),
+                hier.intersect_in::<f32>(o, dir, 0.0, f32::MAX, &mut ch),
+            )
+        });
         assert_eq!(a, b);
         assert_eq!(a, c);
         hits += a.is_some() as u32;
@@ -704,9 +709,11 @@ fn camera_packets_are_the_camera_rays_of_their_lanes() {
             } else {
                 std::array::from_fn(|_| rng.range(-1.0, w as f64 + 1.0) as f32)
             };
-            let packet = camera.camera_packet(&x, y);
+            // (At the i486 firmware's x87 precision: see `at_precision`.)
+            let packet = at_precision(24, || camera.camera_packet(&x, y));
             for (l, &x) in x.iter().enumerate() {
-                let (got, want) = (packet.camera_ray(l), camera.camera_ray(x, y));
+                let (got, want) =
+                    at_precision(24, || (packet.camera_ray(l), camera.camera_ray(x, y)));
                 let bits = |c: &CameraRay| {
                     let v = [
                         c.ray.origin,

@@ -17,7 +17,7 @@ use hfray::{Counters, FieldHit, HeightField, Ray, Real, SkipGrid, SkipLayout, Tr
 /// sample type's significand (24 bits for `f32`, 53 for `f64`), and back
 /// to Linux's default (64) after. Elsewhere `f` just runs.
 #[cfg(all(target_arch = "x86", not(target_feature = "sse2")))]
-fn at_precision<R>(significand_bits: u32, f: impl FnOnce() -> R) -> R {
+pub fn at_precision<R>(significand_bits: u32, f: impl FnOnce() -> R) -> R {
     fn set(precision_control: u16) {
         let cw: u16 = 0x007F | (precision_control << 8);
         // SAFETY: loads the x87 control word from a live local, nothing
@@ -35,7 +35,7 @@ fn at_precision<R>(significand_bits: u32, f: impl FnOnce() -> R) -> R {
 }
 
 #[cfg(not(all(target_arch = "x86", not(target_feature = "sse2"))))]
-fn at_precision<R>(_significand_bits: u32, f: impl FnOnce() -> R) -> R {
+pub fn at_precision<R>(_significand_bits: u32, f: impl FnOnce() -> R) -> R {
     f()
 }
 
