@@ -1877,7 +1877,19 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     // `Axis::new`), finite and non-zero on every axis exactly when every
     // component is finite, non-zero and not `tiny`.
     let inv = Vec3A::ONE / Vec3A::from_array(*d);
+    // Each `|1/d|` finite and non-zero: in vector compares where there are
+    // vectors; elsewhere on the bits, as `moving_axes` tests them (`|1/d|`
+    // in `1..=0x7f7f_ffff`, NaN above it: the same lanes pass), one
+    // integer compare a lane, not a float compare and its flag move and
+    // the finiteness test's bit arithmetic (frames: Cortex-M4F lcd 39.83 ->
+    // 39.59 M instructions, base 10.42 -> 10.36 M).
+    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     let moving = (inv.abs().cmplt(Vec3A::INFINITY) & inv.cmpne(Vec3A::ZERO)).all();
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    let moving = {
+        let finite_nonzero = |v: f32| (v.to_bits() & 0x7fff_ffff).wrapping_sub(1) < 0x7f7f_ffff;
+        finite_nonzero(inv.x) & finite_nonzero(inv.y) & finite_nonzero(inv.z)
+    };
     let (min_units, max_units) = field.units_range();
     let water = field.water_level();
     // `walk`'s `1/64 + |y|·ε·16` in one product: `·ε·16` is `·2^-19`
