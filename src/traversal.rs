@@ -1905,10 +1905,19 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     if max_units < field.water_units() {
         return None; // everything is under water
     }
+    // Lane `k` points up: `d[k] > 0`, and `inv[k] > 0`, as the direction
+    // moves (finite and non-zero, as its reciprocal): off x86-64 and
+    // aarch64 the sign bit of the reciprocal, an integer test, not a float
+    // compare and its flag move (frames: Cortex-M4F lcd 39.59 -> 39.54 M,
+    // base 10.36 -> 10.35 M instructions).
+    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+    let up = |k: usize| d[k] > 0.0;
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    let up = |k: usize| inv[k].to_bits() >> 31 == 0;
     // `Axis::new` of a moving component.
     let axis = |k: usize| Axis {
-        step: if d[k] > 0.0 { 1 } else { -1 },
-        off: (d[k] > 0.0) as i32,
+        step: if up(k) { 1 } else { -1 },
+        off: up(k) as i32,
         inv: inv[k],
     };
     let (au, av) = (axis(0), axis(2));
@@ -1927,7 +1936,13 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     let origin = Vec3A::from_array(*o);
     let lo = Vec3A::new(0.0, y_lo, 0.0);
     let hi = Vec3A::new(cells_u as f32, y_hi, cells_v as f32);
+    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     let far = (Vec3A::select(inv.cmpgt(Vec3A::ZERO), hi, lo) - origin) * inv;
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    let far = {
+        let side = |k: usize| if up(k) { hi[k] } else { lo[k] };
+        (Vec3A::new(side(0), side(1), side(2)) - origin) * inv
+    };
     let t_max = if t_max.is_finite() { t_max } else { f32::MAX };
     let t_far = Real::min(Real::min(Real::min(t_max, far.x), far.y), far.z);
     let mut walk = Walk::new(field, *o, *d, au, av, t_far, water, true);
