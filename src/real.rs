@@ -363,10 +363,28 @@ impl Real for f32 {
             ((1u128 << 79) as f32).to_bits(),
         );
         debug_assert!(lo.unsigned_abs() <= SIDE && hi.unsigned_abs() <= SIDE);
-        let a = inv.to_bits() & MAGNITUDE;
-        origin.to_bits() & MAGNITUDE < side_bits
-            // `low ≤ a < high`, one compare.
-            && a.wrapping_sub(low) < high - low
+        #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+        {
+            let a = inv.to_bits() & MAGNITUDE;
+            origin.to_bits() & MAGNITUDE < side_bits
+                // `low ≤ a < high`, one compare.
+                && a.wrapping_sub(low) < high - low
+        }
+        // Elsewhere the three bounds as the signs of differences (each
+        // magnitude and bound is below 2^31: no difference wraps): `o <
+        // side`, `low ≤ a` and `a < high` at once in the sign bit of one
+        // `and`, not a compare and a flag move each (frames: Cortex-M4F
+        // lcd 39.54 -> 39.37 M instructions, base 10.35 -> 10.31 M; the
+        // desktop targets keep the compares, not measured there).
+        #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+        {
+            let o = (origin.to_bits() & MAGNITUDE) as i32;
+            let a = (inv.to_bits() & MAGNITUDE) as i32;
+            let below_side = o - side_bits as i32;
+            let from_low = a - low as i32;
+            let below_high = a - high as i32;
+            (below_side & below_high & !from_low) < 0
+        }
     }
     #[inline]
     fn from_water_level(level: f32) -> Self {

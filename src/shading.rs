@@ -1390,17 +1390,17 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             -1.0
         };
         if hit.field.is_some() {
+            // The first try here, the others out of line: in one loop, what
+            // the tries share was loaded before it and spilled to the stack,
+            // and reloaded in it (frames: Cortex-M4F lcd 40.13 -> 39.95 M
+            // instructions, base 10.50 -> 10.46 M; host unchanged).
             let field = &self.fields[obj.field_index];
-            let mut delta = FIELD_OFFSET_START;
-            for _ in 0..FIELD_OFFSET_TRIES {
-                let o = hit.point + obj.field_up * (delta * side);
-                let g = field.grid_ray(o.to_array(), dir.to_array());
-                if let Some((start, not_below)) = checked_start(field, &g, side) {
-                    return (o, Some((g, start, side > 0.0 && not_below)));
-                }
-                delta *= 2.0;
+            let o = hit.point + obj.field_up * (FIELD_OFFSET_START * side);
+            let g = field.grid_ray(o.to_array(), dir.to_array());
+            if let Some((start, not_below)) = checked_start(field, &g, side) {
+                return (o, Some((g, start, side > 0.0 && not_below)));
             }
-            (hit.point + obj.field_up * (delta * side), None)
+            field_offset_retried(field, obj.field_up, hit.point, dir, side)
         } else {
             let scale = hit.point.abs().max_element().max(1.0);
             (
@@ -1409,6 +1409,30 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             )
         }
     }
+}
+
+/// [`Tracer::offset_mapped`] on a height field after its first try
+/// failed: the tries from the second on (the offset `up·(δ·side)` from
+/// `point` with `δ` doubled from twice `FIELD_OFFSET_START`).
+#[cold]
+#[inline(never)]
+fn field_offset_retried(
+    field: &HeightField<'_>,
+    up: Vec3,
+    point: Vec3,
+    dir: Vec3,
+    side: f32,
+) -> (Vec3, Option<GridStart>) {
+    let mut delta = FIELD_OFFSET_START * 2.0;
+    for _ in 1..FIELD_OFFSET_TRIES {
+        let o = point + up * (delta * side);
+        let g = field.grid_ray(o.to_array(), dir.to_array());
+        if let Some((start, not_below)) = checked_start(field, &g, side) {
+            return (o, Some((g, start, side > 0.0 && not_below)));
+        }
+        delta *= 2.0;
+    }
+    (point + up * (delta * side), None)
 }
 
 /// A ray from a height field's surface in the field's grid space (`f32`),

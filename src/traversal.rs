@@ -1923,7 +1923,19 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     // `Axis::new`), finite and non-zero on every axis exactly when every
     // component is finite, non-zero and not `tiny`.
     let inv = Vec3A::ONE / Vec3A::from_array(*d);
+    // Each `|1/d|` finite and non-zero: in vector compares where there are
+    // vectors; elsewhere on the bits, as `moving_axes` tests them (`|1/d|`
+    // in `1..=0x7f7f_ffff`, NaN above it: the same lanes pass), one
+    // integer compare a lane, not a float compare and its flag move and
+    // the finiteness test's bit arithmetic (frames: Cortex-M4F lcd 39.83 ->
+    // 39.59 M instructions, base 10.42 -> 10.36 M).
+    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     let moving = (inv.abs().cmplt(Vec3A::INFINITY) & inv.cmpne(Vec3A::ZERO)).all();
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    let moving = {
+        let finite_nonzero = |v: f32| (v.to_bits() & 0x7fff_ffff).wrapping_sub(1) < 0x7f7f_ffff;
+        finite_nonzero(inv.x) & finite_nonzero(inv.y) & finite_nonzero(inv.z)
+    };
     let (min_units, max_units) = field.units_range();
     let water = field.water_level();
     // `walk`'s `1/64 + |y|·ε·16` in one product: `·ε·16` is `·2^-19`
@@ -1939,10 +1951,19 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     if max_units < field.water_units() {
         return None; // everything is under water
     }
+    // Lane `k` points up: `d[k] > 0`, and `inv[k] > 0`, as the direction
+    // moves (finite and non-zero, as its reciprocal): off x86-64 and
+    // aarch64 the sign bit of the reciprocal, an integer test, not a float
+    // compare and its flag move (frames: Cortex-M4F lcd 39.59 -> 39.54 M,
+    // base 10.36 -> 10.35 M instructions).
+    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+    let up = |k: usize| d[k] > 0.0;
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    let up = |k: usize| inv[k].to_bits() >> 31 == 0;
     // `Axis::new` of a moving component.
     let axis = |k: usize| Axis {
-        step: if d[k] > 0.0 { 1 } else { -1 },
-        off: (d[k] > 0.0) as i32,
+        step: if up(k) { 1 } else { -1 },
+        off: up(k) as i32,
         inv: inv[k],
     };
     let (au, av) = (axis(0), axis(2));
@@ -1961,7 +1982,13 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     let origin = Vec3A::from_array(*o);
     let lo = Vec3A::new(0.0, y_lo, 0.0);
     let hi = Vec3A::new(cells_u as f32, y_hi, cells_v as f32);
+    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     let far = (Vec3A::select(inv.cmpgt(Vec3A::ZERO), hi, lo) - origin) * inv;
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    let far = {
+        let side = |k: usize| if up(k) { hi[k] } else { lo[k] };
+        (Vec3A::new(side(0), side(1), side(2)) - origin) * inv
+    };
     let t_max = if t_max.is_finite() { t_max } else { f32::MAX };
     let t_far = Real::min(Real::min(Real::min(t_max, far.x), far.y), far.z);
     let mut walk = Walk::new(field, *o, *d, au, av, t_far, water, true);
@@ -2395,6 +2422,7 @@ impl<S: Real> Walk<S> {
         any: bool,
     ) -> Self {
         let water_units = field.water_units();
+        debug_assert!(water_units != 0 || !(water > S::ZERO));
         Walk {
             o,
             d,
@@ -2407,7 +2435,14 @@ impl<S: Real> Walk<S> {
             water_units,
             mult: field.units_per_sample(),
             rising: d[1] >= S::ZERO,
-            wet: water_units != 0 || water > S::ZERO,
+            // `water_units != 0 || water > 0` as one integer test: a
+            // field's water level is in `[0, 1]` (`with_water_level`) and
+            // `water_units` is `⌈level·65536⌉`, not 0 when the level is
+            // positive; `water` (the level, converted monotonically, zero
+            // to zero) is positive only if the level is (Cortex-M4F: a
+            // float compare and its flag move each walk; frames: lcd 39.95
+            // -> 39.83 M instructions, base 10.46 -> 10.42 M).
+            wet: water_units != 0,
             v_strict: true,
             start_level: if any { 0 } else { u32::MAX },
             max_level: u8::MAX,
