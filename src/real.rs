@@ -363,7 +363,7 @@ impl Real for f32 {
             ((1u128 << 79) as f32).to_bits(),
         );
         debug_assert!(lo.unsigned_abs() <= SIDE && hi.unsigned_abs() <= SIDE);
-        #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+        #[cfg(desktop)]
         {
             let a = inv.to_bits() & MAGNITUDE;
             origin.to_bits() & MAGNITUDE < side_bits
@@ -376,7 +376,7 @@ impl Real for f32 {
         // `and`, not a compare and a flag move each (frames: Cortex-M4F
         // lcd 39.54 -> 39.37 M instructions, base 10.35 -> 10.31 M; the
         // desktop targets keep the compares, not measured there).
-        #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+        #[cfg(not(desktop))]
         {
             let o = (origin.to_bits() & MAGNITUDE) as i32;
             let a = (inv.to_bits() & MAGNITUDE) as i32;

@@ -573,7 +573,7 @@ macro_rules! by_sample_type {
 /// function's registers and inlining (inside, the i486 base frame took
 /// 20.18 M instructions, more than one build's 20.14 M, and the 486SX's
 /// 44.73 M, with `Cell::point_at`'s closures no longer inlined).
-const TYPED_INSIDE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
+const TYPED_INSIDE: bool = cfg!(desktop);
 
 /// The hierarchical walk leaves out the `max` with the entry parameter
 /// (`t_a`) of a cell visit's exit, and of a block pass's range end, after
@@ -1929,9 +1929,9 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     // integer compare a lane, not a float compare and its flag move and
     // the finiteness test's bit arithmetic (frames: Cortex-M4F lcd 39.83 ->
     // 39.59 M instructions, base 10.42 -> 10.36 M).
-    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+    #[cfg(desktop)]
     let moving = (inv.abs().cmplt(Vec3A::INFINITY) & inv.cmpne(Vec3A::ZERO)).all();
-    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    #[cfg(not(desktop))]
     let moving = {
         let finite_nonzero = |v: f32| (v.to_bits() & 0x7fff_ffff).wrapping_sub(1) < 0x7f7f_ffff;
         finite_nonzero(inv.x) & finite_nonzero(inv.y) & finite_nonzero(inv.z)
@@ -1956,9 +1956,9 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     // aarch64 the sign bit of the reciprocal, an integer test, not a float
     // compare and its flag move (frames: Cortex-M4F lcd 39.59 -> 39.54 M,
     // base 10.36 -> 10.35 M instructions).
-    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+    #[cfg(desktop)]
     let up = |k: usize| d[k] > 0.0;
-    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    #[cfg(not(desktop))]
     let up = |k: usize| inv[k].to_bits() >> 31 == 0;
     // `Axis::new` of a moving component.
     let axis = |k: usize| Axis {
@@ -1982,9 +1982,9 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     let origin = Vec3A::from_array(*o);
     let lo = Vec3A::new(0.0, y_lo, 0.0);
     let hi = Vec3A::new(cells_u as f32, y_hi, cells_v as f32);
-    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+    #[cfg(desktop)]
     let far = (Vec3A::select(inv.cmpgt(Vec3A::ZERO), hi, lo) - origin) * inv;
-    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    #[cfg(not(desktop))]
     let far = {
         let side = |k: usize| if up(k) { hi[k] } else { lo[k] };
         (Vec3A::new(side(0), side(1), side(2)) - origin) * inv
@@ -2488,7 +2488,7 @@ impl<S: Real> Walk<S> {
     /// Inlined into its callers on 64-bit desktop targets, as
     /// [`walk_from`](Self::walk_from) is into it (bench512: 40 instructions a
     /// shadow ray fewer); flash-bound targets keep one copy.
-    #[cfg_attr(any(target_arch = "x86_64", target_arch = "aarch64"), inline(always))]
+    #[cfg_attr(desktop, inline(always))]
     pub(crate) fn walk_from_entry<F: WalkGrid>(
         &mut self,
         field: &F,
@@ -2746,7 +2746,7 @@ impl<S: Real> Walk<S> {
     /// full render and 105 fewer per primary ray of the packet walk
     /// ([`crate::packet`]), whose lane set-up and strictness tests it then
     /// sees. Flash-bound targets keep one copy.
-    #[cfg_attr(any(target_arch = "x86_64", target_arch = "aarch64"), inline(always))]
+    #[cfg_attr(desktop, inline(always))]
     fn walk_from<F: WalkGrid>(
         &mut self,
         field: &F,
