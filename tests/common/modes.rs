@@ -192,13 +192,17 @@ impl Modes {
                 );
             }
             // The lanes visit the cells their own walks visit; a shared start
-            // changes only the block tests (usually fewer).
+            // changes only the block tests (usually fewer). Not on the x87
+            // for a packet with a subnormal direction component (see
+            // `x87_subnormal_direction`): the hits are checked above.
             let visits = |c: &Counters| (c.cells, c.triangle_tests, c.resumed);
-            assert_eq!(
-                visits(&counters),
-                visits(&alone),
-                "packet work counted in mode {name}"
-            );
+            if !x87_subnormal_direction(rays) {
+                assert_eq!(
+                    visits(&counters),
+                    visits(&alone),
+                    "packet work counted in mode {name}"
+                );
+            }
             self.shared_starts += u64::from(counters.blocks != alone.blocks);
             self.blocks_saved += alone.blocks as i64 - counters.blocks as i64;
         }
@@ -250,6 +254,26 @@ impl Modes {
         }
         reference
     }
+}
+
+/// On an x87 target, whether a lane's direction has a subnormal
+/// component (the odd lane `d·1e-39` of `tests/modes.rs`: every component
+/// subnormal, the reciprocals past `f32::MAX`, walked by
+/// `traversal::nearest`'s branch for tiny directions). 24-bit precision
+/// rounds each operation's significand as `f32` does but keeps the x87's
+/// wider exponent range in registers, so values outside `f32`'s range
+/// (the firmware README's caveat) depend on where the compiler stores
+/// them. Measured on such a ray (seed 21): the same hits, but other
+/// triangle tests, and not one count: the ray copied into all eight
+/// lanes of one packet tested 44 triangles against its own walks' 64
+/// (32 on x86-64), so the lanes' walks differ with register allocation,
+/// not by a start. With `d·1e-30` instead (reciprocals within range) every
+/// count matches. The hits are still checked. Elsewhere, `false`.
+fn x87_subnormal_direction(rays: &[Ray; LANES]) -> bool {
+    cfg!(all(target_arch = "x86", not(target_feature = "sse2")))
+        && rays
+            .iter()
+            .any(|r| r.direction.to_array().iter().any(|c| c.is_subnormal()))
 }
 
 /// Both packet entries on `field`: the hits, the `t`s, the work counted by
