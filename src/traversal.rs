@@ -776,6 +776,19 @@ fn entry_place(exit: Exit, su: i32, sv: i32) -> Place {
 }
 
 impl<S: Real> Walk<S> {
+    /// Column `i` is outside the field, tested only where a step's `t`
+    /// test may not keep it inside (x87 floats: [`GUARD_STEPS`]).
+    #[inline(always)]
+    fn guard_u(&self, i: i32) -> bool {
+        GUARD_STEPS && !S::ALL_FINITE && i as u32 >= self.cells_u as u32
+    }
+
+    /// Row `j` is outside the field ([`Walk::guard_u`] along `v`).
+    #[inline(always)]
+    fn guard_v(&self, j: i32) -> bool {
+        GUARD_STEPS && !S::ALL_FINITE && j as u32 >= self.cells_v as u32
+    }
+
     /// A cursor at cell `(i, j)`, entered at `t_a` through `entry`.
     #[inline(always)]
     fn cursor<const MOVING: bool>(&self, i: i32, j: i32, t_a: S, entry: Place) -> Cursor<S> {
@@ -919,17 +932,13 @@ impl<S: Real> Walk<S> {
                 }
             }
         }
-        // Outside the field (x87 floats only: [`GUARD_STEPS`]).
-        let guard = GUARD_STEPS && !S::ALL_FINITE;
-        let out_u = |i: i32| guard && i as u32 >= self.cells_u as u32;
-        let out_v = |j: i32| guard && j as u32 >= self.cells_v as u32;
         match exit {
             Exit::End => return Visit::Miss,
             // Each way out sets the entry place it makes (`entry_place`),
             // only the flags it needs.
             Exit::U => {
                 c.i = i + au.step;
-                if out_u(c.i) {
+                if self.guard_u(c.i) {
                     return Visit::Miss;
                 }
                 c.tu = au.exit::<MOVING>(c.i, o[0]);
@@ -937,7 +946,7 @@ impl<S: Real> Walk<S> {
             }
             Exit::V => {
                 c.j = j + av.step;
-                if out_v(c.j) {
+                if self.guard_v(c.j) {
                     return Visit::Miss;
                 }
                 c.tv = av.exit::<MOVING>(c.j, o[2]);
@@ -946,7 +955,7 @@ impl<S: Real> Walk<S> {
             Exit::Corner => {
                 c.i = i + au.step;
                 c.j = j + av.step;
-                if out_u(c.i) || out_v(c.j) {
+                if self.guard_u(c.i) || self.guard_v(c.j) {
                     return Visit::Miss;
                 }
                 c.tu = au.exit::<MOVING>(c.i, o[0]);
@@ -1410,15 +1419,11 @@ impl<S: Real> Walk<S> {
                 // computed afresh for the level it goes to). A crossed line
                 // is inside the field, so one block past it is at most
                 // 2^20 + 2^30: no overflow.
-                // (Outside the field, x87 floats only: [`GUARD_STEPS`].)
-                let guard = GUARD_STEPS && !S::ALL_FINITE;
-                let out_u = |i: i32| guard && i as u32 >= self.cells_u as u32;
-                let out_v = |j: i32| guard && j as u32 >= self.cells_v as u32;
                 let (pi, pj) = (c.i, c.j);
                 if tu_edge < tv_edge {
                     side = Exit::U;
                     c.i = u_edge - down_u;
-                    if out_u(c.i) {
+                    if self.guard_u(c.i) {
                         break 'walk None;
                     }
                     u_edge += su << shift;
@@ -1426,7 +1431,7 @@ impl<S: Real> Walk<S> {
                 } else if tv_edge < tu_edge {
                     side = Exit::V;
                     c.j = v_edge - down_v;
-                    if out_v(c.j) {
+                    if self.guard_v(c.j) {
                         break 'walk None;
                     }
                     v_edge += sv << shift;
@@ -1435,7 +1440,7 @@ impl<S: Real> Walk<S> {
                     side = Exit::Corner;
                     c.i = u_edge - down_u;
                     c.j = v_edge - down_v;
-                    if out_u(c.i) || out_v(c.j) {
+                    if self.guard_u(c.i) || self.guard_v(c.j) {
                         break 'walk None;
                     }
                     u_edge += su << shift;
