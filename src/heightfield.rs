@@ -218,6 +218,10 @@ pub struct HeightField<'a> {
     max_units: u32,
     transform: Transform,
     world_to_grid: GridTransform,
+    /// `world_to_grid.linear` has no off-diagonal entry (a field scaled,
+    /// not turned): a camera ray's direction is carried to the grid by
+    /// three products ([`intersect_from_origin`](Self::intersect_from_origin)).
+    grid_diagonal: bool,
     /// Inverse transpose of the raw-to-world linear map, scaled by a power
     /// of two: carries normal directions in POV-Ray's raw field space (x
     /// and z in cells, y in height units of 1/65536; the smooth normals'
@@ -507,6 +511,7 @@ impl<'a> HeightField<'a> {
             max_units: hi * mult,
             transform: Transform::IDENTITY,
             world_to_grid: GridTransform::IDENTITY,
+            grid_diagonal: true,
             raw_normal_matrix: glam::Mat3::from_diagonal(Vec3::new(1.0, 65536.0, 1.0)),
             normal_diagonal: true,
             raw_normals: None,
@@ -788,6 +793,12 @@ impl<'a> HeightField<'a> {
             .to_world()
             .transform_point3(DVec3::splat(0.5));
         self.world_to_grid = GridTransform::new(w2g, centre);
+        let l = &self.world_to_grid.linear;
+        self.grid_diagonal = [
+            l.x_axis.y, l.x_axis.z, l.y_axis.x, l.y_axis.z, l.z_axis.x, l.z_axis.y,
+        ]
+        .iter()
+        .all(|&c| c == 0.0);
         let g2w = self.transform.to_world().matrix3
             * glam::DMat3::from_diagonal(DVec3::new(
                 1.0 / (self.width - 1) as f64,
@@ -1093,8 +1104,20 @@ impl<'a> HeightField<'a> {
         ray: &Ray,
         counters: &mut Counters,
     ) -> Option<FieldHit> {
-        let d = self.world_to_grid.map_f32_direction(ray.direction);
-        let hit = traversal::nearest_from_origin(self, slabs, d.to_array(), counters)?;
+        let full = || self.world_to_grid.map_f32_direction(ray.direction).to_array();
+        let d = if self.grid_diagonal {
+            // The diagonal's three products: the full product's bits
+            // whenever the walk takes them (each component moving, see
+            // `nearest_from_origin`). Then each is finite and not zero,
+            // so each direction component is finite, each off-diagonal
+            // product a zero and each sum `a + 0 + 0` is `a`. Other
+            // directions are carried in full there.
+            let (m, w) = (&self.world_to_grid.linear, ray.direction);
+            [m.x_axis.x * w.x, m.y_axis.y * w.y, m.z_axis.z * w.z]
+        } else {
+            full()
+        };
+        let hit = traversal::nearest_from_origin(self, slabs, d, full, counters)?;
         Some(self.finish_hit_with(ray, &hit, false))
     }
 

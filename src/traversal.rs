@@ -2213,17 +2213,20 @@ impl<S: Real> OriginSlabs<S> {
 
 /// [`nearest`] over `[0, ∞)` (not `any`) of the ray from the origin of
 /// `slabs` (made for `field`) along `d`: a camera ray, whose origin's set-up
-/// the renderer made once for the frame.
+/// the renderer made once for the frame. `full()` is the direction to walk
+/// when `d`'s components are not all moving (`d` itself, or the direction
+/// `d` is a shortcut for, equal to it when they are).
 #[inline(always)]
 pub(crate) fn nearest_from_origin<F: WalkGrid>(
     field: &F,
     slabs: &OriginSlabs<f32>,
     d: [f32; 3],
+    full: impl FnOnce() -> [f32; 3],
     counters: &mut Counters,
 ) -> Option<GridHit<f32>> {
     match moving_axes(&d) {
         Some(axes) => walk_from_origin::<true, _>(field, slabs, &d, &axes, counters),
-        None => nearest_from_origin_parallel(field, slabs, d, counters),
+        None => nearest_from_origin_parallel(field, slabs, full(), counters),
     }
 }
 
