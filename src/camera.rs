@@ -316,8 +316,21 @@ impl TracedRow<'_> {
         for (x, slot) in (0u32..).zip(before) {
             *slot = missed(x);
         }
+        // `off_blocks` with pixel `x`'s skyline group kept as `x` moves, not
+        // divided out each pixel: `group` is `x / sky_group`, `next` the
+        // first pixel of the next group (never reached without a skyline,
+        // whose `group` then matches no line, as `off_blocks` says).
+        let g = self.cull.sky_group;
+        let (mut group, mut next) = match g {
+            0 => (usize::MAX, u32::MAX),
+            g => ((start / g) as usize, (start / g + 1).saturating_mul(g)),
+        };
         for (x, slot) in (start..).zip(inside) {
-            *slot = if self.cull.off_blocks(x, self.y) {
+            if x == next {
+                group += 1;
+                next = next.saturating_add(g);
+            }
+            *slot = if self.cull.off_group(group, self.y) {
                 off += 1;
                 missed(x)
             } else {
