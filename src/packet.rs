@@ -466,7 +466,7 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
                 t_far: &t_far,
                 entry: (&i, &j, &t_near),
             };
-            Walk::walk_lanes::<false, _>(
+            Walk::walk_lanes::<false, LANES, _>(
                 field,
                 (found, &from_line),
                 (entries, &from_entry),
@@ -581,7 +581,7 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
             starts: &starts,
             resumed,
         };
-        Walk::walk_lanes::<true, _>(
+        Walk::walk_lanes::<true, LANES, _>(
             field,
             (level1, &source),
             (levels, &source),
@@ -720,12 +720,14 @@ struct LineStarts {
     at: u32,
     past: u32,
     t_line: Lanes,
-    /// The lanes of `at` whose row beyond the line is found here (`row`,
-    /// and whether the cell is entered at a vertex, `corner`); the others
-    /// search for it in [`Walk::line_start_at`].
+    /// The lanes of `at` whose row beyond the line is found here (their
+    /// cell beyond the line, `cell_i`, `cell_j`, and whether it is entered
+    /// at a vertex, `corner`); the others search for it in
+    /// [`Walk::line_start_at`].
     found: u32,
     corner: u32,
-    row: [i32; LANES],
+    cell_i: [i32; LANES],
+    cell_j: [i32; LANES],
     /// Each quad's line (its `SharedStart`), where it has one.
     along_u: [bool; 2],
     line: [i32; 2],
@@ -750,7 +752,8 @@ impl LineStarts {
             t_line: [0.0; LANES],
             found: 0,
             corner: 0,
-            row: [0; LANES],
+            cell_i: [0; LANES],
+            cell_j: [0; LANES],
             along_u: [false; 2],
             line: [0; 2],
             strict: 0,
@@ -761,7 +764,7 @@ impl LineStarts {
         }
         let (o, d) = (&rays.origin, &rays.direction);
         let mut t_line = [Vec4::ZERO; 2];
-        let mut row = [Vec4::ZERO; 2];
+        let (mut cell_i, mut cell_j) = ([Vec4::ZERO; 2], [Vec4::ZERO; 2]);
         for h in 0..2 {
             let q = 4 * h;
             let four = |v: &Lanes| Vec4::from_slice(&v[q..q + 4]);
@@ -784,6 +787,8 @@ impl LineStarts {
             };
             let (o_a, inv_a) = (four(&o[a]), four(&inv[a]));
             let off = Vec4::select(four(&d[a]).cmpgt(Vec4::ZERO), Vec4::ONE, Vec4::ZERO);
+            // The column (row) beyond the line: `line − (step < 0)`.
+            let beyond = Vec4::splat(s.line as f32) - (Vec4::ONE - off);
             // The first column's near and far lines (in the walk's order).
             let near = ((first + (Vec4::ONE - off)) - o_a) * inv_a;
             let far = ((first + off) - o_a) * inv_a;
@@ -818,12 +823,24 @@ impl LineStarts {
             let corner = k.cmpne(first_b) & e_before.cmpeq(t);
             starts.found |= found.bitmask() << q;
             starts.corner |= corner.bitmask() << q;
-            row[h] = k + Vec4::splat(TWO_23);
+            // The cell beyond the line (`line_cell`'s), found here
+            // lane-wise, not in each lane's walk: bench512 956.6 -> 952.3
+            // instructions a primary ray, rmnp_gradient 843.1 -> 838.2,
+            // level_rmnp 896.7 -> 889.3 (coherence off), 738.6 -> 739.5
+            // (on). (The walk's first cursor, `tu`, `tv`, `y_a`, made here
+            // too: +3 to +4 on each.)
+            (cell_i[h], cell_j[h]) = if s.along_u { (beyond, k) } else { (k, beyond) };
         }
         starts.t_line = unpair(t_line);
-        for (r, x) in starts.row.iter_mut().zip(unpair(row)) {
-            *r = x.to_bits().wrapping_sub(TWO_23.to_bits()) as i32;
-        }
+        // (Integers below 2^21, exact: from the bits of `2^23 + x`.)
+        let int = |v: [Vec4; 2], out: &mut [i32; LANES]| {
+            let v = unpair([v[0] + Vec4::splat(TWO_23), v[1] + Vec4::splat(TWO_23)]);
+            for (r, x) in out.iter_mut().zip(v) {
+                *r = x.to_bits().wrapping_sub(TWO_23.to_bits()) as i32;
+            }
+        };
+        int(cell_i, &mut starts.cell_i);
+        int(cell_j, &mut starts.cell_j);
         starts.found &= starts.at;
         starts
     }
@@ -848,8 +865,8 @@ impl LaneSource for FromLine<'_> {
         let mut walk = walk;
         let q = l >> 2 & 1;
         let corner = lines.corner >> l & 1 != 0;
-        let (along_u, line) = (lines.along_u[q], lines.line[q]);
-        let start = walk.line_cell(along_u, line, lines.row[l], corner, lines.t_line[l]);
+        let cell = (lines.cell_i[l], lines.cell_j[l]);
+        let start = walk.line_cell_at(cell, lines.along_u[q], corner, lines.t_line[l]);
         (walk, start)
     }
 }
