@@ -20,9 +20,8 @@ use glam::{DAffine3, DVec3, Vec3};
 
 use crate::cell::Corners;
 use crate::packet::{self, RayPacket, LANES};
-use crate::ray::{FieldHit, Ray, Triangle};
+use crate::ray::{FieldHit, LocalHit, Ray, Triangle};
 use crate::real::{Numeric, Real};
-use crate::shapes::LocalHit;
 use crate::skip::{SampleGrid, SkipError, SkipGrid};
 use crate::transform::{GridTransform, Transform};
 use crate::traversal::{

@@ -1,4 +1,4 @@
-//! Rays and the hits a height field reports.
+//! Rays and the hits a height field (and any shape) reports.
 
 use glam::Vec3;
 
@@ -60,4 +60,29 @@ pub struct FieldHit {
     /// Unit geometric normal of the triangle in world space, pointing to
     /// the side where object-space y grows (the "top").
     pub normal: Vec3,
+}
+
+/// A hit before its normal is carried to the world.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LocalHit {
+    /// An analytic primitive: parameter and object-space unit normal.
+    Shape {
+        /// Ray parameter.
+        t: f32,
+        /// Object-space normal.
+        normal: Vec3,
+    },
+    /// A height field (already complete, in world space).
+    Field(FieldHit),
+}
+
+impl LocalHit {
+    /// The ray parameter.
+    #[inline]
+    pub fn t(&self) -> f32 {
+        match self {
+            LocalHit::Shape { t, .. } => *t,
+            LocalHit::Field(h) => h.t,
+        }
+    }
 }

@@ -84,11 +84,11 @@ use crate::camera::{Camera, CameraPacket, CameraRay, RayCull};
 use crate::cell::Corners;
 use crate::heightfield::{ColumnHint, HeightField, VertexNormalCache};
 use crate::packet::{self, LANES};
-use crate::ray::{FieldHit, Ray};
+use crate::ray::{FieldHit, LocalHit, Ray};
 use crate::real::Real;
 use crate::render_error::{RenderError, MAX_AA};
 use crate::scene::{ColorMap, Finish, Gradient, Light, Pigment, Projection, Scene, Shape};
-use crate::shapes::{LocalHit, Placed, Primitive, WorldHit};
+use crate::shapes::{Placed, Primitive, WorldHit};
 use crate::stats::Stats;
 use crate::traversal::{Counters, FootprintStart, GridRay, OriginSlabs};
 

@@ -34,7 +34,7 @@ pub use triangle::Triangle;
 use glam::{Affine3A, Mat3, Vec3};
 
 use crate::heightfield::HeightField;
-use crate::ray::{FieldHit, Ray};
+use crate::ray::{FieldHit, LocalHit, Ray};
 use crate::scene::Shape;
 use crate::transform::Transform;
 use crate::traversal::Counters;
@@ -229,31 +229,6 @@ impl Primitive {
             #[cfg(feature = "primitives")]
             Primitive::Triangle(t) => t.intersect(origin, dir, t_min, t_max),
             Primitive::HeightField { .. } => None,
-        }
-    }
-}
-
-/// A hit before its normal is carried to the world.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum LocalHit {
-    /// An analytic primitive: parameter and object-space unit normal.
-    Shape {
-        /// Ray parameter.
-        t: f32,
-        /// Object-space normal.
-        normal: Vec3,
-    },
-    /// A height field (already complete, in world space).
-    Field(FieldHit),
-}
-
-impl LocalHit {
-    /// The ray parameter.
-    #[inline]
-    pub fn t(&self) -> f32 {
-        match self {
-            LocalHit::Shape { t, .. } => *t,
-            LocalHit::Field(h) => h.t,
         }
     }
 }
