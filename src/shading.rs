@@ -1310,19 +1310,24 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         counters: &mut Counters,
     ) -> Vec3 {
         stats.shadow_rays += 1;
-        let (origin, mapped) = self.offset_mapped(obj, hit, l);
+        // The grid ray and start read in place from `offset_mapped`'s
+        // result, and the world ray made only for the other objects:
+        // destructured into locals, both were copied on the stack first.
+        let offset = self.offset_mapped(obj, hit, l);
+        let origin = offset.0;
         let t_max = (light.position - origin).dot(l);
         if !(t_max > 0.0) {
             return light.color;
         }
-        let ray = Ray::new(origin, l);
         for o in self.objects.iter().filter(|o| o.opaque) {
-            let blocked = match &mapped {
+            let blocked = match &offset.1 {
                 // The field the ray leaves: `offset_mapped` has its grid ray
                 // and start.
                 Some((g, start, above)) if core::ptr::eq(o, obj) => self.fields[o.field_index]
-                    .occludes_mapped(&ray, g, *start, t_max, *above, counters),
-                _ => o.placed.occludes(&ray, 0.0, t_max, self.fields, counters),
+                    .occludes_mapped(origin, l, g, *start, t_max, *above, counters),
+                _ => o
+                    .placed
+                    .occludes(&Ray::new(origin, l), 0.0, t_max, self.fields, counters),
             };
             if blocked {
                 stats.shadow_hits += 1;
