@@ -1319,6 +1319,19 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         if !(t_max > 0.0) {
             return light.color;
         }
+        // The scene's one object, opaque (so nothing is transparent), is the
+        // field the ray leaves: its walk, without the loop over the objects
+        // (the same walk and answer).
+        if let (Some((g, start, above)), [_]) = (&offset.1, self.objects.as_slice()) {
+            if obj.opaque {
+                let field = &self.fields[obj.field_index];
+                if field.occludes_mapped(origin, l, g, *start, t_max, *above, counters) {
+                    stats.shadow_hits += 1;
+                    return Vec3::ZERO;
+                }
+                return light.color;
+            }
+        }
         for o in self.objects.iter().filter(|o| o.opaque) {
             let blocked = match &offset.1 {
                 // The field the ray leaves: `offset_mapped` has its grid ray
