@@ -232,6 +232,9 @@ struct Prepared<'a> {
     /// Height fields: world image of object-space +y (one object unit).
     field_up: Vec3,
     field_index: usize,
+    /// Height fields: the field, `fields[field_index]` (borrowed here, not
+    /// indexed with a bounds check at each use).
+    field: Option<&'a HeightField<'a>>,
 }
 
 /// A scene prepared for tracing. Build one per render (or per thread); it
@@ -474,6 +477,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let mut palette = false;
             let mut field_up = Vec3::Y;
             let mut field_index = 0;
+            let mut field_ref = None;
             // Where the object is: a height field's own transform places it.
             let mut placement = &object.transform;
             if let Shape::HeightField {
@@ -490,6 +494,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 smooth = s;
                 palette = field.palette().is_some();
                 field_index = fi;
+                field_ref = Some(field);
                 placement = field.transform();
                 field_up = placement.to_world().matrix3.y_axis.as_vec3();
             }
@@ -534,6 +539,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 palette,
                 field_up,
                 field_index,
+                field: field_ref,
             };
             // Cannot fail: the scene holds at most OBJECTS objects.
             let _ = self.objects.push(prepared);
@@ -1119,11 +1125,10 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         // Normals: each flipped by its own dot with the ray, as POV-Ray.
         let geometric = hit.normal;
         let mut n = match field {
-            Some(fh) if obj.smooth => self.fields[obj.field_index].smooth_normal_cached(
-                fh,
-                obj.field_index,
-                &self.normals,
-            ),
+            Some(fh) if obj.smooth => match obj.field {
+                Some(f) => f.smooth_normal_cached(fh, obj.field_index, &self.normals),
+                None => geometric,
+            },
             _ => geometric,
         };
         if n.dot(d) > 0.0 {
@@ -1222,11 +1227,10 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         };
         if obj.palette {
             if let Some(fh) = hit.field {
-                if let Some(c) = self.fields[obj.field_index].triangle_palette_color(
-                    fh.cell_x,
-                    fh.cell_z,
-                    fh.triangle,
-                ) {
+                if let Some(c) = obj
+                    .field
+                    .and_then(|f| f.triangle_palette_color(fh.cell_x, fh.cell_z, fh.triangle))
+                {
                     paint.color = c;
                 }
             }
@@ -1323,8 +1327,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         // field the ray leaves: its walk, without the loop over the objects
         // (the same walk and answer).
         if let (Some((g, start, above)), [_]) = (&offset.1, self.objects.as_slice()) {
-            if obj.opaque {
-                let field = &self.fields[obj.field_index];
+            if let (true, Some(field)) = (obj.opaque, obj.field) {
                 if field.occludes_mapped(origin, l, g, *start, t_max, *above, counters) {
                     stats.shadow_hits += 1;
                     return Vec3::ZERO;
@@ -1407,12 +1410,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         } else {
             -1.0
         };
-        if hit.field.is_some() {
+        if let (Some(_), Some(field)) = (hit.field, obj.field) {
             // The first try here, the others out of line: in one loop, what
             // the tries share was loaded before it and spilled to the stack,
             // and reloaded in it (frames: Cortex-M4F lcd 40.13 -> 39.95 M
             // instructions, base 10.50 -> 10.46 M; host unchanged).
-            let field = &self.fields[obj.field_index];
             let o = hit.point + obj.field_up * (FIELD_OFFSET_START * side);
             let g = field.grid_ray(o.to_array(), dir.to_array());
             if let Some((start, not_below)) = checked_start(field, &g, side) {
