@@ -2794,8 +2794,18 @@ impl<S: Real> Walk<S> {
             // monotone (see `block_exit`); with rays whose rounding makes
             // neighbouring boundaries coincide on both axes (origins very far
             // from the field), walk flat.
-            let u_strict = au.step == 0 || S::strict_boundaries(o[0], au.inv, 0, cells_u);
-            let v_strict = av.step == 0 || S::strict_boundaries(o[2], av.inv, 0, cells_v);
+            // (`above`: the origin is over the footprint, a shadow ray's
+            // from `nearest_from_footprint`, so `0 ≤ u ≤ cells_u` and
+            // `0 ≤ v ≤ cells_v`.)
+            let strict = |o: S, inv: S, cells: i32| {
+                if above {
+                    S::strict_boundaries_inside(o, inv, 0, cells)
+                } else {
+                    S::strict_boundaries(o, inv, 0, cells)
+                }
+            };
+            let u_strict = au.step == 0 || strict(o[0], au.inv, cells_u);
+            let v_strict = av.step == 0 || strict(o[2], av.inv, cells_v);
             if u_strict && v_strict {
                 // (`compact`: the one yes/no build, as `walk_hdda_moving`'s
                 // on bare metal over three levels.)
