@@ -1613,7 +1613,8 @@ impl<'a> HeightField<'a> {
         }
     }
 
-    /// [`occludes`](Self::occludes) over `[0, t_max]` of `ray`, whose grid
+    /// [`occludes`](Self::occludes) over `[0, t_max]` of the ray from
+    /// `origin` along `direction`, whose grid
     /// ray in `f32` (`grid_ray` of its origin and direction) and, if its
     /// origin lies over the footprint, the start of its walk
     /// (`FootprintStart::of` that grid ray) the caller has made already:
@@ -1621,10 +1622,12 @@ impl<'a> HeightField<'a> {
     /// that the walk's first sample is strictly above the surface (the
     /// shading's offset check), which the walk may use
     /// (`traversal::nearest_from_footprint`).
+    #[allow(clippy::too_many_arguments)]
     #[inline]
     pub(crate) fn occludes_mapped(
         &self,
-        ray: &Ray,
+        origin: Vec3,
+        direction: Vec3,
         grid: &GridRay<f32>,
         start: Option<FootprintStart>,
         t_max: f32,
@@ -1634,7 +1637,7 @@ impl<'a> HeightField<'a> {
         if self.numeric == Numeric::F32 {
             self.occludes_grid(grid, start, 0.0, t_max, above, counters)
         } else {
-            self.occludes(ray, 0.0, t_max, counters)
+            self.occludes(&Ray::new(origin, direction), 0.0, t_max, counters)
         }
     }
 
