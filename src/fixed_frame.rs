@@ -110,7 +110,13 @@ fn rsqrt_q30(x: u32) -> u32 {
     let y1 = (y0 << 15).wrapping_add(((y0 as i32 * (e0 >> 8)) >> 8) as u32);
     let y1sq = (mul_u32_wide(y1, y1) >> 30).min(u32::MAX as u64) as u32;
     let e1 = (1 << 30) - (mul_u32_wide(x, y1sq) >> 32) as i32;
-    y1.wrapping_add((((y1 >> 16) as i32 * e1) >> 15) as u32)
+    // `|e1|` reaches 81,410 (over every `x`, checked exhaustively), so
+    // `(y1 >> 16)·e1` would not fit an `i32` (up to 2.66·2^30): it takes
+    // `e1`'s bit 0 off first (2^-30, far below the 2^-28 this step
+    // leaves). Multiplied whole, the product wrapped for 0.12% of inputs
+    // (errors up to 6.5e-5 instead of 3.2e-9, and a panic in debug builds;
+    // test `rsqrt_near_a_quarter_where_the_second_step_overflowed`).
+    y1.wrapping_add((((y1 >> 16) as i32 * (e1 >> 1)) >> 14) as u32)
 }
 
 /// `v / |v|` in Q30 (each component within ±2^30, truncated towards zero;
@@ -975,7 +981,27 @@ mod tests {
                 (got - want).abs() / want < 1.0 / (1 << 26) as f64,
                 "{x}: {got} vs {want}"
             );
-            x = x.wrapping_add(9_999_991);
+            x = x.wrapping_add(99_991);
+        }
+    }
+
+    /// `rsqrt_q30`'s second step multiplied `(y1 >> 16)·e1` in an `i32`,
+    /// which wrapped for `x` just above `2^30` (relative error 6.1e-5 at
+    /// these, a multiply overflow in debug builds).
+    #[test]
+    fn rsqrt_near_a_quarter_where_the_second_step_overflowed() {
+        for x in [
+            1_078_128_640u32,
+            1_078_194_176,
+            1_234_890_752,
+            1_235_021_824,
+        ] {
+            let want = (1u64 << 46) as f64 / (x as f64).sqrt();
+            let got = rsqrt_q30(x) as f64;
+            assert!(
+                (got - want).abs() / want < 1.0 / (1 << 26) as f64,
+                "{x}: {got} vs {want}"
+            );
         }
     }
 
