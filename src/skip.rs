@@ -28,6 +28,7 @@ pub const HEADER_BYTES: usize = 16;
 /// with `fldz`/`fstp` (its panic path must see the loop's stack).
 /// Measured, i486 frame instructions: thesis 231,133,571 -> 228,880,376,
 /// base 14,609,906 -> 14,446,998.
+#[cfg_attr(not(as_chunks), allow(dead_code))]
 const CHUNKED_BOUNDS: bool = cfg!(x87);
 
 /// The most levels a skip grid may have.
@@ -527,21 +528,25 @@ impl<'a> SkipGrid<'a> {
         // 16 bytes, and every level's, are), so the entry is one element of
         // the bytes taken in `2·sb`-byte chunks: one check, which holds
         // exactly when the original's do.
-        if CHUNKED_BOUNDS && sb == 1 {
-            match bytes.as_chunks::<2>().0.get(index / 2) {
-                Some(&[lo, hi]) => return (lo as u32, hi as u32),
-                None => block_out_of_range(level, bi, bj),
-            }
-        }
-        if CHUNKED_BOUNDS && sb == 2 {
-            match bytes.as_chunks::<4>().0.get(index / 4) {
-                Some(&[a, b, c, d]) => {
-                    return (
-                        u16::from_le_bytes([a, b]) as u32,
-                        u16::from_le_bytes([c, d]) as u32,
-                    )
+        #[cfg(as_chunks)]
+        #[allow(clippy::incompatible_msrv)] // only where the compiler has it (build.rs)
+        if CHUNKED_BOUNDS {
+            if sb == 1 {
+                match bytes.as_chunks::<2>().0.get(index / 2) {
+                    Some(&[lo, hi]) => return (lo as u32, hi as u32),
+                    None => block_out_of_range(level, bi, bj),
                 }
-                None => block_out_of_range(level, bi, bj),
+            }
+            if sb == 2 {
+                match bytes.as_chunks::<4>().0.get(index / 4) {
+                    Some(&[a, b, c, d]) => {
+                        return (
+                            u16::from_le_bytes([a, b]) as u32,
+                            u16::from_le_bytes([c, d]) as u32,
+                        )
+                    }
+                    None => block_out_of_range(level, bi, bj),
+                }
             }
         }
         if sb == 1 {
