@@ -632,6 +632,7 @@ const GUARD_STEPS: bool = cfg!(x87);
 /// 14,798,907; the visit's in every build: 232,452,700 and 14,780,563),
 /// base 14,753,899 -> 14,712,028. The other targets keep their code
 /// (fixed point, `ALL_FINITE`, too: the 486SX).
+#[cfg_attr(not(x87), allow(dead_code))]
 const REUSE_ORDER: bool = cfg!(x87);
 
 /// The x87 builds step from a culled cell in code of its own, not where
@@ -640,6 +641,7 @@ const REUSE_ORDER: bool = cfg!(x87);
 /// path (`fldz` each) only to pop them (10 instructions a culled cell in
 /// the primary rays' builds). Measured, i486 frame instructions: thesis
 /// 232,078,928 -> 231,133,571, base 14,712,028 -> 14,609,906.
+#[cfg_attr(not(x87), allow(dead_code))]
 const STEP_CULLED: bool = cfg!(x87);
 
 /// `t.max(t_a)`, noting in `settled` whether `t` was not below `t_a`
@@ -881,6 +883,18 @@ impl<S: Real> Walk<S> {
         let (au, av) = (&self.au, &self.av);
         let (i, j, t_a, tu, tv) = (c.i, c.j, c.t_a, c.tu, c.tv);
         let t_far = self.t_far;
+        #[cfg(not(x87))]
+        let (t_exit, exit) = if t_far <= tu && t_far <= tv {
+            (t_far, Exit::End)
+        } else if tu < tv {
+            (tu, Exit::U)
+        } else if tv < tu {
+            (tv, Exit::V)
+        } else {
+            (tu, Exit::Corner)
+        };
+        // x87: [`REUSE_ORDER`].
+        #[cfg(x87)]
         let (t_exit, exit) = if REUSE_ORDER && !S::ALL_FINITE && (!ABOVE || !SETTLED) {
             let v_first = tv < tu;
             let t_min = if v_first { tv } else { tu };
@@ -978,6 +992,7 @@ impl<S: Real> Walk<S> {
             || ((!ABOVE || c.entry == Place::Interior)
                 && (y_high < S::from_raw_height(r_min(), mult)
                     || (self.wet && (r_max * mult < self.water_units || y_high < self.water))));
+        #[cfg(x87)]
         if STEP_CULLED && !S::ALL_FINITE && culled {
             return step!(true);
         }
@@ -1406,12 +1421,18 @@ impl<S: Real> Walk<S> {
                 // least `t_far` (the slab computes it by the same expression),
                 // so the cull's range ends at `t_far` and the walk ends or
                 // steps along the other axis exactly as with the edge itself.
-                // (x87: the two compares kept for the step and the end
-                // test below: [`REUSE_ORDER`].)
+                #[cfg(not(x87))]
+                let t_block = tu_edge.min(tv_edge);
+                #[cfg(not(x87))]
+                let t_lim = t_block.min(t_far);
+                // x87: the two compares kept for the step and the end test
+                // below ([`REUSE_ORDER`]).
+                #[cfg(x87)]
                 let reuse = REUSE_ORDER && !S::ALL_FINITE;
-                let reuse_v = reuse && !ABOVE;
-                let v_first = reuse_v && tv_edge < tu_edge;
-                let t_block = if reuse_v {
+                #[cfg(x87)]
+                let v_first = reuse && !ABOVE && tv_edge < tu_edge;
+                #[cfg(x87)]
+                let t_block = if reuse && !ABOVE {
                     if v_first {
                         tv_edge
                     } else {
@@ -1420,7 +1441,9 @@ impl<S: Real> Walk<S> {
                 } else {
                     tu_edge.min(tv_edge)
                 };
+                #[cfg(x87)]
                 let ends = reuse && t_far <= t_block;
+                #[cfg(x87)]
                 let t_lim = if reuse {
                     if ends {
                         t_far
@@ -1478,9 +1501,13 @@ impl<S: Real> Walk<S> {
                     level -= 1;
                     continue 'walk;
                 }
-                let ends = if reuse { ends } else { t_far <= t_block };
-                if ends {
+                #[cfg(not(x87))]
+                if t_far <= t_block {
                     break 'walk None; // the walk ends inside the block
+                }
+                #[cfg(x87)]
+                if if reuse { ends } else { t_far <= t_block } {
+                    break 'walk None;
                 }
                 // The next block, through the cell the step enters along each
                 // axis it crossed. It is inside the field: the line crossed
@@ -1494,6 +1521,8 @@ impl<S: Real> Walk<S> {
                 // is inside the field, so one block past it is at most
                 // 2^20 + 2^30: no overflow.
                 let (pi, pj) = (c.i, c.j);
+                #[cfg(not(x87))]
+                let v_first = false;
                 if v_first {
                     side = Exit::V;
                     c.j = v_edge - down_v;
