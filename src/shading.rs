@@ -231,9 +231,8 @@ struct Prepared<'a> {
     palette: bool,
     /// Height fields: world image of object-space +y (one object unit).
     field_up: Vec3,
-    field_index: usize,
-    /// Height fields: the field, `fields[field_index]` (borrowed here, not
-    /// indexed with a bounds check at each use).
+    /// Height fields: the field, borrowed here, not indexed in `fields`
+    /// with a bounds check at each use (its index is the primitive's).
     field: Option<&'a HeightField<'a>>,
 }
 
@@ -475,7 +474,6 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let mut smooth = false;
             let mut palette = false;
             let mut field_up = Vec3::Y;
-            let mut field_index = 0;
             let mut field_ref = None;
             // Where the object is: a height field's own transform places it.
             let mut placement = &object.transform;
@@ -492,7 +490,6 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 })?;
                 smooth = s;
                 palette = field.palette().is_some();
-                field_index = fi;
                 field_ref = Some(field);
                 placement = field.transform();
                 field_up = placement.to_world().matrix3.y_axis.as_vec3();
@@ -537,7 +534,6 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 smooth,
                 palette,
                 field_up,
-                field_index,
                 field: field_ref,
             };
             // Cannot fail: the scene holds at most OBJECTS objects.
@@ -1141,9 +1137,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         // Normals: each flipped by its own dot with the ray, as POV-Ray.
         let geometric = hit.normal;
         let mut n = match field {
-            Some(fh) if obj.smooth => match obj.field {
-                Some(f) => f.smooth_normal_cached(fh, obj.field_index, &self.normals),
-                None => geometric,
+            Some(fh) if obj.smooth => match (obj.field, obj.placed.primitive()) {
+                (Some(f), &Primitive::HeightField { field_index }) => {
+                    f.smooth_normal_cached(fh, field_index, &self.normals)
+                }
+                _ => geometric,
             },
             _ => geometric,
         };
@@ -1355,8 +1353,9 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
             let blocked = match &offset.1 {
                 // The field the ray leaves: `offset_mapped` has its grid ray
                 // and start.
-                Some((g, start, above)) if core::ptr::eq(o, obj) => self.fields[o.field_index]
-                    .occludes_mapped(origin, l, g, *start, t_max, *above, counters),
+                Some((g, start, above)) if core::ptr::eq(o, obj) => o.field.is_some_and(|f| {
+                    f.occludes_mapped(origin, l, g, *start, t_max, *above, counters)
+                }),
                 _ => o
                     .placed
                     .occludes(&Ray::new(origin, l), 0.0, t_max, self.fields, counters),

@@ -22,6 +22,16 @@
 
 /// Bytes of the header that starts every skip grid.
 pub const HEADER_BYTES: usize = 16;
+
+/// The walk's block bounds read with one bounds check on the x87 builds
+/// ([`SkipGrid::walk_bounds_of`]): each check the x87 stackifier pads
+/// with `fldz`/`fstp` (its panic path must see the loop's stack).
+/// Measured, i486 frame instructions: thesis 231,133,571 -> 228,880,376,
+/// base 14,609,906 -> 14,446,998 (`as_chunks` is why the crate's
+/// `rust-version` is 1.88; the safe forms that need no 1.88 lost: `index /
+/// 2 * 2` thesis 232.49 M, `first_chunk` 232.28 M).
+const CHUNKED_BOUNDS: bool = cfg!(x87);
+
 /// The most levels a skip grid may have.
 pub const MAX_LEVELS: u8 = 8;
 const MAGIC: [u8; 4] = *b"HFSK";
@@ -514,6 +524,30 @@ impl<'a> SkipGrid<'a> {
         let index = ((bj.wrapping_mul(self.blocks_u[l]).wrapping_add(bi)).wrapping_mul(2 * sb))
             .wrapping_add(self.offsets[l]) as usize;
         let bytes = self.bytes;
+        // x87 (32-bit `usize`, where `index + 1` may wrap, so the original
+        // needs both checks): `index` is a multiple of `2·sb` (the header's
+        // 16 bytes, and every level's, are), so the entry is one element of
+        // the bytes taken in `2·sb`-byte chunks: one check, which holds
+        // exactly when the original's do.
+        if CHUNKED_BOUNDS {
+            if sb == 1 {
+                match bytes.as_chunks::<2>().0.get(index / 2) {
+                    Some(&[lo, hi]) => return (lo as u32, hi as u32),
+                    None => block_out_of_range(level, bi, bj),
+                }
+            }
+            if sb == 2 {
+                match bytes.as_chunks::<4>().0.get(index / 4) {
+                    Some(&[a, b, c, d]) => {
+                        return (
+                            u16::from_le_bytes([a, b]) as u32,
+                            u16::from_le_bytes([c, d]) as u32,
+                        )
+                    }
+                    None => block_out_of_range(level, bi, bj),
+                }
+            }
+        }
         if sb == 1 {
             match bytes.get(index + 1) {
                 Some(&hi) => (bytes[index] as u32, hi as u32),
