@@ -883,16 +883,22 @@ impl<S: Real> Walk<S> {
         let (au, av) = (&self.au, &self.av);
         let (i, j, t_a, tu, tv) = (c.i, c.j, c.t_a, c.tu, c.tv);
         let t_far = self.t_far;
+        // The exit: the end, along `u`, along `v` or through the corner.
+        macro_rules! exit_by_four_compares {
+            () => {
+                if t_far <= tu && t_far <= tv {
+                    (t_far, Exit::End)
+                } else if tu < tv {
+                    (tu, Exit::U)
+                } else if tv < tu {
+                    (tv, Exit::V)
+                } else {
+                    (tu, Exit::Corner)
+                }
+            };
+        }
         #[cfg(not(x87))]
-        let (t_exit, exit) = if t_far <= tu && t_far <= tv {
-            (t_far, Exit::End)
-        } else if tu < tv {
-            (tu, Exit::U)
-        } else if tv < tu {
-            (tv, Exit::V)
-        } else {
-            (tu, Exit::Corner)
-        };
+        let (t_exit, exit) = exit_by_four_compares!();
         // x87: [`REUSE_ORDER`].
         #[cfg(x87)]
         let (t_exit, exit) = if REUSE_ORDER && !S::ALL_FINITE && (!ABOVE || !SETTLED) {
@@ -907,14 +913,8 @@ impl<S: Real> Walk<S> {
             } else {
                 (tu, Exit::Corner)
             }
-        } else if t_far <= tu && t_far <= tv {
-            (t_far, Exit::End)
-        } else if tu < tv {
-            (tu, Exit::U)
-        } else if tv < tu {
-            (tv, Exit::V)
         } else {
-            (tu, Exit::Corner)
+            exit_by_four_compares!()
         };
         let t_b = if SETTLED {
             t_exit

@@ -34,7 +34,9 @@ pub use triangle::Triangle;
 use glam::{Affine3A, Mat3, Vec3};
 
 use crate::heightfield::HeightField;
-use crate::ray::{FieldHit, LocalHit, Ray};
+use crate::ray::{FieldHit, Ray};
+// Where it was first defined, kept for users of `hfray::shapes::LocalHit`.
+pub use crate::ray::LocalHit;
 use crate::scene::Shape;
 use crate::transform::Transform;
 use crate::traversal::Counters;
