@@ -508,26 +508,16 @@ impl RayCull {
             return self;
         };
         let margin = projector.margin;
+        let [sx, sy] = projector.slack;
         let mut cull = self.start_lines();
-        let lines = Cell::from_mut(&mut cull.lines[..]).as_slice_of_cells();
-        let (height, group) = (camera.height(), cull.sky_group);
-        let (width, [sx, sy]) = (cull.width, projector.slack);
+        let lines = Lines::of(&mut cull, camera.height());
         tree.skyline_blocks(
             |&(lo, hi)| {
                 let [left, right, top, bottom] = projector.bounds(lo, hi);
                 let widened = [left - sx, right + sx, top - sy, bottom + sy];
-                !prune || moves_lines(lines, group, width, height, widened, margin)
+                !prune || lines.would_open(widened, margin)
             },
-            |&(lo, hi)| {
-                add_lines(
-                    lines,
-                    group,
-                    width,
-                    height,
-                    projector.bounds(lo, hi),
-                    margin,
-                )
-            },
+            |&(lo, hi)| lines.open(projector.bounds(lo, hi), margin),
         );
         cull.finish_lines()
     }
@@ -591,16 +581,15 @@ impl RayCull {
     #[inline(always)]
     fn with_lines(self, height: u32, bounds: impl Iterator<Item = ([f32; 4], [f32; 2])>) -> Self {
         let mut cull = self.start_lines();
-        let lines = Cell::from_mut(&mut cull.lines[..]).as_slice_of_cells();
-        let (group, width) = (cull.sky_group, cull.width);
+        let lines = Lines::of(&mut cull, height);
         for (b, margin) in bounds {
-            add_lines(lines, group, width, height, b, margin);
+            lines.open(b, margin);
         }
         cull.finish_lines()
     }
 
     /// This cull with lines that leave out every pixel, in groups of
-    /// `sky_group` columns, for `add_lines` to open.
+    /// `sky_group` columns, for [`Lines::open`] to open.
     fn start_lines(mut self) -> Self {
         self.sky_group = self.width.div_ceil(SKYLINE_COLUMNS as u32);
         // Built in place: a second array would be more of the Cortex-M
@@ -609,7 +598,7 @@ impl RayCull {
         self
     }
 
-    /// This cull with the lines `add_lines` made.
+    /// This cull with the lines [`Lines::open`] made.
     fn finish_lines(mut self) -> Self {
         let groups = self.width.div_ceil(self.sky_group) as usize;
         for [top, _] in &mut self.lines[..groups] {
@@ -685,90 +674,103 @@ impl RayCull {
     }
 }
 
-/// The groups of columns (first and last, of `group` columns each) whose
-/// pixel centres may lie within the bounds `[left, right, top, bottom]`
-/// widened by the margins `[mx, my]`, the first row whose centre may lie
-/// at or below `top` and the row after the last whose centre may lie at or
-/// above `bottom`, of an image `width × height`; `None` beside the image.
-#[inline(always)]
-fn line_span(
+/// The skyline and floor lines of a cull being made (one `[top, end]` per
+/// group of `group` columns, as [`RayCull::off_group`] reads them) with
+/// the image they are for, `width × height`: what opening a line to a
+/// box's pixel bounds needs besides the bounds.
+struct Lines<'c> {
+    lines: &'c [Cell<[u16; 2]>],
     group: u32,
     width: u32,
     height: u32,
-    [left, right, top, bottom]: [f32; 4],
-    [mx, my]: [f32; 2],
-) -> Option<(u32, u32, u16, u16)> {
-    let last_column = (width - 1) as f32;
-    let (left, right) = (left - mx, right + mx);
-    let (top, bottom) = (top - my, bottom + my);
-    if !(right >= 0.0 && left <= last_column) {
-        return None; // beside the image
-    }
-    let first = if left > 0.0 {
-        left as u32 + (left as u32 as f32 != left) as u32
-    } else {
-        0
-    };
-    let last = if right < last_column {
-        right as u32
-    } else {
-        width - 1
-    };
-    let row = if top > 0.0 {
-        (top as u32 + (top as u32 as f32 != top) as u32).min(height)
-    } else {
-        0
-    } as u16;
-    let end = if bottom < 0.0 {
-        0
-    } else if bottom < height as f32 {
-        (bottom as u32 + 1).min(height)
-    } else {
-        height // and a NaN: nothing left out
-    } as u16;
-    Some((first / group, last / group, row, end))
 }
 
-/// Opens the lines (each group's first row traced and the row after its
-/// last) to a box seen within `bounds` with margins `margin`
-/// ([`line_span`]).
-#[inline(always)]
-fn add_lines(
-    lines: &[Cell<[u16; 2]>],
-    group: u32,
-    width: u32,
-    height: u32,
-    bounds: [f32; 4],
-    margin: [f32; 2],
-) {
-    let Some((first, last, row, end)) = line_span(group, width, height, bounds, margin) else {
-        return;
-    };
-    for line in &lines[first as usize..=last as usize] {
-        let [top, floor] = line.get();
-        line.set([top.min(row), floor.max(end)]);
+impl<'c> Lines<'c> {
+    /// The lines of `cull` ([`RayCull::start_lines`]), for an image
+    /// `height` rows high. Shared cells: the skyline's two closures, the
+    /// test and the placing, both read them.
+    fn of(cull: &'c mut RayCull, height: u32) -> Self {
+        let (group, width) = (cull.sky_group, cull.width);
+        Lines {
+            lines: Cell::from_mut(&mut cull.lines[..]).as_slice_of_cells(),
+            group,
+            width,
+            height,
+        }
     }
-}
 
-/// `true` if [`add_lines`] would open some line to a box seen within
-/// `bounds`, or if a bound is NaN (which `add_lines` takes as beside the
-/// image, but whose box's children it may not).
-#[inline(always)]
-fn moves_lines(
-    lines: &[Cell<[u16; 2]>],
-    group: u32,
-    width: u32,
-    height: u32,
-    bounds: [f32; 4],
-    margin: [f32; 2],
-) -> bool {
-    let Some((first, last, row, end)) = line_span(group, width, height, bounds, margin) else {
-        return bounds.iter().any(|b| b.is_nan());
-    };
-    lines[first as usize..=last as usize].iter().any(|line| {
-        let [top, floor] = line.get();
-        row < top || end > floor
-    })
+    /// The groups of columns (first and last) whose pixel centres may lie
+    /// within the bounds `[left, right, top, bottom]` widened by the
+    /// margins `[mx, my]`, the first row whose centre may lie at or below
+    /// `top` and the row after the last whose centre may lie at or above
+    /// `bottom`; `None` beside the image.
+    #[inline(always)]
+    fn span(
+        &self,
+        [left, right, top, bottom]: [f32; 4],
+        [mx, my]: [f32; 2],
+    ) -> Option<(u32, u32, u16, u16)> {
+        let (width, height) = (self.width, self.height);
+        let last_column = (width - 1) as f32;
+        let (left, right) = (left - mx, right + mx);
+        let (top, bottom) = (top - my, bottom + my);
+        if !(right >= 0.0 && left <= last_column) {
+            return None; // beside the image
+        }
+        let first = if left > 0.0 {
+            left as u32 + (left as u32 as f32 != left) as u32
+        } else {
+            0
+        };
+        let last = if right < last_column {
+            right as u32
+        } else {
+            width - 1
+        };
+        let row = if top > 0.0 {
+            (top as u32 + (top as u32 as f32 != top) as u32).min(height)
+        } else {
+            0
+        } as u16;
+        let end = if bottom < 0.0 {
+            0
+        } else if bottom < height as f32 {
+            (bottom as u32 + 1).min(height)
+        } else {
+            height // and a NaN: nothing left out
+        } as u16;
+        Some((first / self.group, last / self.group, row, end))
+    }
+
+    /// Opens the lines (each group's first row traced and the row after
+    /// its last) to a box seen within `bounds` with margins `margin`
+    /// ([`span`](Self::span)).
+    #[inline(always)]
+    fn open(&self, bounds: [f32; 4], margin: [f32; 2]) {
+        let Some((first, last, row, end)) = self.span(bounds, margin) else {
+            return;
+        };
+        for line in &self.lines[first as usize..=last as usize] {
+            let [top, floor] = line.get();
+            line.set([top.min(row), floor.max(end)]);
+        }
+    }
+
+    /// `true` if [`open`](Self::open) would open some line to a box seen
+    /// within `bounds`, or if a bound is NaN (which `open` takes as beside
+    /// the image, but whose box's children it may not).
+    #[inline(always)]
+    fn would_open(&self, bounds: [f32; 4], margin: [f32; 2]) -> bool {
+        let Some((first, last, row, end)) = self.span(bounds, margin) else {
+            return bounds.iter().any(|b| b.is_nan());
+        };
+        self.lines[first as usize..=last as usize]
+            .iter()
+            .any(|line| {
+                let [top, floor] = line.get();
+                row < top || end > floor
+            })
+    }
 }
 
 /// Where a perspective camera sees grid points, in `f32`, and how far
