@@ -46,6 +46,10 @@ pub const MAX_SIDE: u32 = 1 << 20;
 /// 15.962 -> 15.814 M).
 const _: () = assert!((2 * MAX_SIDE as u64 - 1) * (u8::MAX as u64 + 2) < u32::MAX as u64);
 
+/// The x87 builds' cell read masks the width with this
+/// (`traversal::corners_raw`): every width must pass through unchanged.
+const _: () = assert!(MAX_SIDE as usize <= traversal::CELL_WIDTH_MASK);
+
 /// The samples of a grid, borrowed, row-major, image row 0 first.
 #[derive(Debug, Clone, Copy)]
 pub enum Samples<'a> {

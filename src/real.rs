@@ -77,6 +77,15 @@ pub trait Real:
     fn floor_nonneg_i32(self) -> i32 {
         self.floor_i32()
     }
+    /// An integer near `floor(self)`, for a search that starts there and
+    /// whose answer does not depend on where it starts (the walk's
+    /// `locate`): [`floor_i32`](Self::floor_i32), or on the x87 a cheaper
+    /// truncation.
+    #[doc(hidden)]
+    #[inline]
+    fn floor_guess_i32(self) -> i32 {
+        self.floor_i32()
+    }
     /// `true` unless NaN or infinite.
     fn is_finite(self) -> bool;
     /// `self > 0` for a value that is neither zero nor NaN. Floats read
@@ -315,6 +324,19 @@ impl Real for f32 {
         {
             f32_to_i32_from_bits::<true>(self)
         }
+    }
+    /// The truncation on the bits ([`f32_to_i32_from_bits`] without the
+    /// floor's step down; at most one above the floor): fewer
+    /// instructions than `floor_i32` (the walk's `locate`; i486 `thesis`
+    /// frame 225,738,809 -> 225,574,458 instructions). (Rounding by
+    /// the magic-number addition, `(self + 1.5·2^23).to_bits()`, was
+    /// cheaper still, 224,167,345, but crashed LLVM (SIGSEGV, Rust 1.95)
+    /// compiling the crate for `i586-unknown-linux-gnu` at its default
+    /// CPU.)
+    #[cfg(x87)]
+    #[inline(always)]
+    fn floor_guess_i32(self) -> i32 {
+        f32_to_i32_from_bits::<false>(self)
     }
     #[inline]
     fn positive_nonzero(self) -> bool {
