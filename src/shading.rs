@@ -1319,22 +1319,8 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
     ) -> Vec3 {
         let hit_level = p.level + u32::from(p.kind != Kind::Transmitted);
         let d = p.ray.direction;
-        let field = hit.field;
-
-        // Normals: each flipped by its own dot with the ray, as POV-Ray.
         let geometric = hit.normal;
-        let mut n = match field {
-            Some(fh) if obj.smooth => match (obj.field, obj.placed.primitive()) {
-                (Some(f), &Primitive::HeightField { field_index }) => {
-                    f.smooth_normal_cached(fh, field_index, &self.normals)
-                }
-                _ => geometric,
-            },
-            _ => geometric,
-        };
-        if n.dot(d) > 0.0 {
-            n = -n;
-        }
+        let n = self.shading_normal(obj, hit, d);
 
         let Paint {
             color: colour,
@@ -1404,16 +1390,11 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         local
     }
 
-    /// The normal shading uses at `hit` on `obj`, seen along `d`: `shade`'s,
-    /// for [`trace_packet_shadowed`](Self::trace_packet_shadowed). (This
-    /// and [`light_direction`] and [`light_colour`], the parts of
-    /// `light_term`, are copies: shared, they cost the firmware's frames,
-    /// with `traversal::footprint_walk` shared likewise: base Cortex-M4F
-    /// 10,103,239 -> 10,126,536 instructions, i486 14,358,317 ->
-    /// 14,391,833.)
+    /// The normal shading uses at `hit` on `obj`, seen along `d`: the
+    /// hit's normal or, on a smooth field, its interpolated normal, each
+    /// flipped by its own dot with the ray, as POV-Ray.
     #[inline(always)]
     fn shading_normal(&self, obj: &Prepared, hit: &Surface, d: Vec3) -> Vec3 {
-        // Normals: each flipped by its own dot with the ray, as POV-Ray.
         let geometric = hit.normal;
         let mut n = match hit.field {
             Some(fh) if obj.smooth => match (obj.field, obj.placed.primitive()) {
@@ -1486,47 +1467,14 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         stats: &mut Stats,
         counters: &mut Counters,
     ) -> Vec3 {
-        let to_light = light.position - hit.point;
-        let dist = crate::math::length(to_light);
-        // `dist <= f32::MAX`: `is_finite` for a positive value, in one
-        // float compare (`is_finite` is bit arithmetic on the Cortex-M4F);
-        // on the x87 both on the bits.
-        if !crate::math::is_positive_finite(dist) {
+        let Some((l, cos)) = light_direction(hit, n, light) else {
             return Vec3::ZERO;
-        }
-        let l = to_light / dist;
-        let cos = n.dot(l);
-        if !(cos > 1e-10) {
-            return Vec3::ZERO; // light behind the surface as seen
-        }
+        };
         let lc = self.light_reaching(obj, hit, l, light, stats, counters);
         if lc == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let finish = &obj.finish;
-        let mut out = Vec3::ZERO;
-        let [diffuse, phong, specular] = obj.terms;
-        if diffuse {
-            out += colour * lc * (finish.diffuse * cos * att);
-        }
-        if phong {
-            let r = d - n * (2.0 * d.dot(n));
-            let c = r.dot(l);
-            if c > 0.0 && (finish.phong_size < 60.0 || c > 0.0008) {
-                out += lc * (finish.phong * libm::powf(c, finish.phong_size));
-            }
-        }
-        if specular {
-            let h = (l - d) * 0.5;
-            let hl = crate::math::length(h);
-            if hl > 0.0 {
-                let c = h.dot(n) / hl;
-                if c > 0.0 {
-                    out += lc * (finish.specular * libm::powf(c, obj.specular_exponent));
-                }
-            }
-        }
-        out
+        light_colour(obj, n, d, l, cos, colour, att, lc)
     }
 
     /// The light's colour as it arrives at the hit: zero behind an opaque

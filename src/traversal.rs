@@ -2050,6 +2050,36 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     above: bool,
     counters: &mut Counters,
 ) -> Option<GridHit<f32>> {
+    debug_assert!(FootprintStart::of(field, ray).is_some_and(|s| (s.i, s.j) == (start.i, start.j)));
+    footprint_walk(
+        field,
+        ray,
+        t_max,
+        above,
+        counters,
+        |mut walk, above, counters| {
+            walk.walk_from_entry(field, start.i, start.j, 0.0, above, counters)
+        },
+    )
+}
+
+/// The answer of [`nearest_from_footprint`]'s ray when it takes another
+/// way than its walk from the footprint (see there), else `walk_it` of its
+/// walk, set up, with its `above`: the one set-up of the walks of
+/// `nearest_from_footprint` and [`occluded_lanes`]. A continuation, not a
+/// returned walk: returned (in a `Result`), the walk was built in memory
+/// and copied, and the firmware's frames cost more (base: Cortex-M4F
+/// 10,103,239 -> 10,126,536 instructions, i486 14,358,317 -> 14,391,833,
+/// with `shading`'s `light_term` split as now).
+#[inline(always)]
+fn footprint_walk<F: WalkGrid>(
+    field: &F,
+    ray: &GridRay<f32>,
+    t_max: f32,
+    above: bool,
+    counters: &mut Counters,
+    walk_it: impl FnOnce(Walk<f32>, bool, &mut Counters) -> Option<GridHit<f32>>,
+) -> Option<GridHit<f32>> {
     let (o, d) = (&ray.origin, &ray.direction);
     // The reciprocals in one vector division (each lane the `1/d` of
     // `Axis::new`), finite and non-zero on every axis exactly when every
@@ -2079,7 +2109,6 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     if !(moving && t_max >= 0.0 && y_lo <= o[1] && o[1] <= y_hi) {
         return nearest(field, ray, 0.0, t_max, true, counters);
     }
-    debug_assert!(FootprintStart::of(field, ray).is_some_and(|s| (s.i, s.j) == (start.i, start.j)));
     if max_units < field.water_units() {
         return None; // everything is under water
     }
@@ -2123,100 +2152,9 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     };
     let t_max = if t_max.is_finite() { t_max } else { f32::MAX };
     let t_far = Real::min(Real::min(Real::min(t_max, far.x), far.y), far.z);
-    let mut walk = Walk::new(field, *o, *d, au, av, t_far, water, true);
-    let above = above && !walk.wet;
-    walk.walk_from_entry(field, start.i, start.j, 0.0, above, counters)
-}
-
-/// The walk of [`nearest_from_footprint`], set up, with its `above` (`Ok`),
-/// or its answer when the ray takes another way (`Err`): its set-up,
-/// copied (see there why it is `nearest`'s walk). Made the set-up of
-/// `nearest_from_footprint` too, it cost the firmware's frames (base:
-/// Cortex-M4F 10,103,239 -> 10,126,536 instructions, i486 14,358,317 ->
-/// 14,391,833, with `shading`'s `light_term` split likewise).
-#[inline(always)]
-fn footprint_walk<F: WalkGrid>(
-    field: &F,
-    ray: &GridRay<f32>,
-    t_max: f32,
-    above: bool,
-    counters: &mut Counters,
-) -> Result<(Walk<f32>, bool), Option<GridHit<f32>>> {
-    let (o, d) = (&ray.origin, &ray.direction);
-    // The reciprocals in one vector division (each lane the `1/d` of
-    // `Axis::new`), finite and non-zero on every axis exactly when every
-    // component is finite, non-zero and not `tiny`.
-    let inv = Vec3A::ONE / Vec3A::from_array(*d);
-    // Each `|1/d|` finite and non-zero: in vector compares where there are
-    // vectors; elsewhere on the bits, as `moving_axes` tests them (`|1/d|`
-    // in `1..=0x7f7f_ffff`, NaN above it: the same lanes pass), one
-    // integer compare a lane, not a float compare and its flag move and
-    // the finiteness test's bit arithmetic (frames: Cortex-M4F lcd 39.83 ->
-    // 39.59 M instructions, base 10.42 -> 10.36 M).
-    #[cfg(desktop)]
-    let moving = (inv.abs().cmplt(Vec3A::INFINITY) & inv.cmpne(Vec3A::ZERO)).all();
-    #[cfg(not(desktop))]
-    let moving = {
-        let finite_nonzero = |v: f32| (v.to_bits() & 0x7fff_ffff).wrapping_sub(1) < 0x7f7f_ffff;
-        finite_nonzero(inv.x) & finite_nonzero(inv.y) & finite_nonzero(inv.z)
-    };
-    let (min_units, max_units) = field.units_range();
-    let water = field.water_level();
-    // `walk`'s `1/64 + |y|·ε·16` in one product: `·ε·16` is `·2^-19`
-    // exactly unless `|y|·ε` is subnormal, and then the sum is `1/64` both
-    // ways (the products are below 2^-99, far under half its ulp).
-    let margin = 1.0 / 64.0 + o[1].abs() * (f32::EPSILON * 16.0);
-    let y_lo = Real::max(f32::from_height_units(min_units), water) - margin;
-    let y_hi = f32::from_height_units(max_units) + margin;
-    if !(moving && t_max >= 0.0 && y_lo <= o[1] && o[1] <= y_hi) {
-        return Err(nearest(field, ray, 0.0, t_max, true, counters));
-    }
-    if max_units < field.water_units() {
-        return Err(None); // everything is under water
-    }
-    // Lane `k` points up: `d[k] > 0`, and `inv[k] > 0`, as the direction
-    // moves (finite and non-zero, as its reciprocal): off x86-64 and
-    // aarch64 the sign bit of the reciprocal, an integer test, not a float
-    // compare and its flag move (frames: Cortex-M4F lcd 39.59 -> 39.54 M,
-    // base 10.36 -> 10.35 M instructions).
-    #[cfg(desktop)]
-    let up = |k: usize| d[k] > 0.0;
-    #[cfg(not(desktop))]
-    let up = |k: usize| inv[k].to_bits() >> 31 == 0;
-    // `Axis::new` of a moving component.
-    let axis = |k: usize| Axis {
-        step: if up(k) { 1 } else { -1 },
-        off: up(k) as i32,
-        inv: inv[k],
-    };
-    let (au, av) = (axis(0), axis(2));
-    let cells_u = field.width() as i32 - 1;
-    let cells_v = field.depth() as i32 - 1;
-    // The far ends of `slab`'s clips, in its order: each slab's larger
-    // parameter (its `b` after the swap), all three lanes at once, from the
-    // side the direction points to. The same bits as the larger of the
-    // two sides' parameters: with `lo ≤ o ≤ hi` (the footprint, the height
-    // check above), `(lo − o)·inv ≤ 0 ≤ (hi − o)·inv` for `inv > 0`, so the
-    // larger is the `hi` side's (`hi`'s too when both are zeros); for
-    // `inv < 0` the order is reversed, and strict: one side is at least
-    // half the slab away (`1/64` or more: the slabs are a cell or more
-    // wide, the height slab twice the margin), and its product with `inv`
-    // (`|inv| ≥ 2^-128`) is not zero.
-    let origin = Vec3A::from_array(*o);
-    let lo = Vec3A::new(0.0, y_lo, 0.0);
-    let hi = Vec3A::new(cells_u as f32, y_hi, cells_v as f32);
-    #[cfg(desktop)]
-    let far = (Vec3A::select(inv.cmpgt(Vec3A::ZERO), hi, lo) - origin) * inv;
-    #[cfg(not(desktop))]
-    let far = {
-        let side = |k: usize| if up(k) { hi[k] } else { lo[k] };
-        (Vec3A::new(side(0), side(1), side(2)) - origin) * inv
-    };
-    let t_max = if t_max.is_finite() { t_max } else { f32::MAX };
-    let t_far = Real::min(Real::min(Real::min(t_max, far.x), far.y), far.z);
     let walk = Walk::new(field, *o, *d, au, av, t_far, water, true);
     let above = above && !walk.wet;
-    Ok((walk, above))
+    walk_it(walk, above, counters)
 }
 
 /// A shadow ray of a packet's lane for [`occluded_lanes`]: its grid ray,
@@ -2268,9 +2206,14 @@ pub(crate) fn occluded_lanes<F: WalkGrid, const N: usize>(
         let Some(r) = &rays[l] else {
             continue;
         };
-        let hit = match footprint_walk(field, &r.ray, r.t_max, r.above, counters) {
-            Err(answer) => answer.is_some(),
-            Ok((mut walk, above)) => {
+        // A grouped lane's answer comes from its build's walk, below.
+        let hit = footprint_walk(
+            field,
+            &r.ray,
+            r.t_max,
+            r.above,
+            counters,
+            |mut walk, above, counters| {
                 // `walk_from`'s choice of `walk_hdda_moving`'s `ABOVE`
                 // build by sign (its level cap is `top` for a walk from an
                 // entry; the origin is over the footprint).
@@ -2285,12 +2228,12 @@ pub(crate) fn occluded_lanes<F: WalkGrid, const N: usize>(
                         | usize::from(walk.av.step > 0);
                     builds[b] |= 1 << l;
                     walks[l] = Some((walk, r.start));
-                    continue;
+                    return None;
                 }
                 walk.walk_from_entry(field, r.start.i, r.start.j, 0.0, above, counters)
-                    .is_some()
-            }
-        };
+            },
+        )
+        .is_some();
         occluded |= u32::from(hit) << l;
     }
     let Some(skip) = skip else {
