@@ -1645,6 +1645,21 @@ impl<'a> HeightField<'a> {
         }
     }
 
+    /// [`occludes_mapped`](Self::occludes_mapped) of each lane `l` of
+    /// `lanes` (bit `l` of the answer), over a field walked in `f32`, each
+    /// ray with the start of its walk ([`traversal::occluded_lanes`]: the
+    /// lanes of one walk build walked in one call).
+    #[inline(never)]
+    pub(crate) fn occludes_lanes<const N: usize>(
+        &self,
+        rays: &[Option<traversal::ShadowLane>; N],
+        lanes: u32,
+        counters: &mut Counters,
+    ) -> u32 {
+        debug_assert!(self.numeric == Numeric::F32);
+        traversal::occluded_lanes(self, rays, lanes, counters)
+    }
+
     /// The `f32` walk of [`occludes`](Self::occludes), the ray in grid
     /// space, from `start` when the caller has it (then `t_min` is 0): its
     /// one call of the walk (the firmware, built for size, otherwise kept a
