@@ -383,6 +383,16 @@ impl<'h> Surface<'h> {
             field: hit.field.as_ref(),
         }
     }
+
+    /// A height field's hit as shading sees it.
+    #[inline(always)]
+    fn of_field(hit: &'h FieldHit) -> Self {
+        Surface {
+            point: hit.point,
+            normal: hit.normal,
+            field: Some(hit),
+        }
+    }
 }
 
 impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
@@ -1070,11 +1080,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 continue;
             };
             live |= 1 << l;
-            let surface = Surface {
-                point: fh.point,
-                normal: fh.normal,
-                field: Some(fh),
-            };
+            let surface = Surface::of_field(fh);
             stats.hits += 1;
             let d = cams.ray.ray(l).direction;
             let n = self.shading_normal(obj, &surface, d);
@@ -1104,11 +1110,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
                 let Some(f) = hits[l] else {
                     continue;
                 };
-                let hit = &Surface {
-                    point: f.point,
-                    normal: f.normal,
-                    field: Some(f),
-                };
+                let hit = &Surface::of_field(f);
                 let Some((dir, cos)) = light_direction(hit, normals[l], light) else {
                     continue;
                 };
@@ -1282,11 +1284,7 @@ impl<'a, const OBJECTS: usize> Tracer<'a, OBJECTS> {
         // render, instructions a pixel: bench512 2,142.3 -> 2,135.9,
         // rmnp_gradient 2,219.4 -> 2,210.8, level_rmnp 1,697.2 -> 1,689.1).
         let surface = match local {
-            LocalHit::Field(f) => Surface {
-                point: f.point,
-                normal: f.normal,
-                field: Some(f),
-            },
+            LocalHit::Field(f) => Surface::of_field(f),
             _ => {
                 let (point, normal, field) = obj.placed.world_parts(&p.ray, local);
                 Surface {
