@@ -702,7 +702,8 @@ fn max_settling<S: Real>(t: S, t_a: S, settled: &mut bool) -> S {
 /// the cells it does not cull. Measured (`run-qemu.sh`, Cortex-M4F frame
 /// instructions, the firmware's 28 KB table in RAM): `lcd` 38,786,768 ->
 /// 38,035,000 (−1.9%, 87,881 cell visits), `base` 10,131,028 ->
-/// 9,929,655 (−2.0%, 22,800); `thesis`
+/// 9,929,655 (−2.0%, 22,800) (with the cull's first test then left out:
+/// 37,683,171 and 9,817,637); `thesis`
 /// (no table: 261 K cells) 181,846,502 -> 182,280,428, its `main` alone
 /// +316 K (register choices in the shading, not the walk). Only hard-float
 /// bare metal: elsewhere the test is code and work without a table.
@@ -1040,6 +1041,7 @@ impl<S: Real> Walk<S> {
         // rmnp_gradient 2,243.1 -> 2,229.9, level_rmnp 1,715.8 -> 1,705.7).
         // [`CELL_MAXIMA`]: a cell above the ray, culled by its byte (the
         // cull's first test below, on the same value).
+        let mut not_above = false;
         if CELL_MAXIMA {
             if let Some(maxima) = maxima {
                 let k = j as usize * self.cells_u as usize + i as usize;
@@ -1047,23 +1049,27 @@ impl<S: Real> Walk<S> {
                     if y_low > S::from_raw_height(m as u32, mult) {
                         return step!(true);
                     }
+                    // Known not culled as above: the corners' maximum
+                    // only for the water test (lcd 38,035,000 ->
+                    // 37,683,171, base 9,929,655 -> 9,817,637).
+                    not_above = true;
                 }
             }
         }
         // Raw samples: the extremes are taken before the conversion to
         // heights (monotone), which then happens twice, not four times.
         let raw = field.cell_raw(i as u32, j as u32);
-        let r_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
+        let r_max = || raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
         // (A closure: the `ABOVE` build takes the lowest corner in its
         // start cell only, not in every cell; bench512: 38 instructions a
         // shadow ray fewer; Cortex-M4F base 11.51 -> 11.44 M, lcd 44.31 ->
         // 43.85 M.)
         let r_min = || raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
         let wet = !ABOVE && self.wet;
-        let culled = y_low > S::from_raw_height(r_max, mult)
+        let culled = (!not_above && y_low > S::from_raw_height(r_max(), mult))
             || ((!ABOVE || c.entry == Place::Interior)
                 && (y_high < S::from_raw_height(r_min(), mult)
-                    || (wet && (r_max * mult < self.water_units || y_high < self.water))));
+                    || (wet && (r_max() * mult < self.water_units || y_high < self.water))));
         #[cfg(x87)]
         if STEP_CULLED && !S::ALL_FINITE && culled {
             return step!(true);
