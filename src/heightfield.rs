@@ -242,6 +242,9 @@ pub struct HeightField<'a> {
     /// ([`with_world_normals`](Self::with_world_normals)); dropped when the
     /// transform changes.
     world_normals: Option<&'a [u8]>,
+    /// Each cell's highest raw sample, one byte a cell
+    /// ([`with_cell_maxima`](Self::with_cell_maxima)).
+    cell_maxima: Option<&'a [u8]>,
     skip: Option<SkipGrid<'a>>,
     traversal: Traversal,
     /// `traversal::walk_top(traversal, skip)`, made again when either
@@ -520,6 +523,7 @@ impl<'a> HeightField<'a> {
             normal_diagonal: true,
             raw_normals: None,
             world_normals: None,
+            cell_maxima: None,
             skip: None,
             traversal: Traversal::default(),
             walk_top: 0,
@@ -722,6 +726,34 @@ impl<'a> HeightField<'a> {
         }
         self.world_normals = Some(table);
         Ok(self)
+    }
+
+    /// The cells of this field: `(width − 1) · (depth − 1)`, the length of
+    /// a table for [`with_cell_maxima`](Self::with_cell_maxima).
+    pub fn cell_count(&self) -> usize {
+        (self.width - 1) as usize * (self.depth - 1) as usize
+    }
+
+    /// The same field with each cell's highest raw sample written into
+    /// `table` (one byte a cell, grid row by grid row from `z = 0`) and
+    /// read from there by the walks of the hard-float Cortex-M
+    /// (`traversal::CELL_MAXIMA`), which then cull a cell
+    /// above the ray with one byte, not its four corners (exactly the
+    /// cull's own test: the same pictures and work). `None` (and `table`
+    /// untouched) unless the samples are bytes and `table` is
+    /// [`cell_count`](Self::cell_count) long.
+    pub fn with_cell_maxima(mut self, table: &'a mut [u8]) -> Option<Self> {
+        if !matches!(self.samples, Samples::U8(_)) || table.len() != self.cell_count() {
+            return None;
+        }
+        let cells_u = (self.width - 1) as usize;
+        for (k, m) in table.iter_mut().enumerate() {
+            let raw = self.cell_raw((k % cells_u) as u32, (k / cells_u) as u32);
+            // A byte: the samples are.
+            *m = raw[0].max(raw[1]).max(raw[2]).max(raw[3]) as u8;
+        }
+        self.cell_maxima = Some(table);
+        Some(self)
     }
 
     /// The same field walked in `mode`. Every mode gives bit-identical
@@ -2299,6 +2331,11 @@ impl WalkGrid for HeightField<'_> {
     }
 
     #[inline(always)]
+    fn cell_maxima(&self) -> Option<&[u8]> {
+        self.cell_maxima
+    }
+
+    #[inline(always)]
     fn units_per_sample(&self) -> u32 {
         HeightField::units_per_sample(self)
     }
@@ -2484,6 +2521,35 @@ mod tests {
         let n = (vertex(x, z) * u + vertex(x + 1, z) * fu) * v
             + (vertex(x, z + 1) * u + vertex(x + 1, z + 1) * fu) * fv;
         crate::math::normalize_or_zero(n)
+    }
+
+    /// `with_cell_maxima` writes each cell's highest corner, by grid rows,
+    /// and takes only a byte table of the cells' count for byte samples.
+    #[test]
+    fn cell_maxima_are_the_cells_highest_corners() {
+        let samples: [u8; 12] = [3, 9, 1, 7, 0, 4, 250, 2, 5, 6, 8, 1];
+        let field = HeightField::new(Samples::U8(&samples), 4, 3, HeightConvention::Gray8).unwrap();
+        assert_eq!(field.cell_count(), 6);
+        let mut table = [0u8; 6];
+        let with = field
+            .clone()
+            .with_cell_maxima(&mut table)
+            .expect("byte samples");
+        let maxima = with.cell_maxima.expect("kept");
+        for z in 0..2 {
+            for x in 0..3 {
+                let raw = field.cell_raw(x, z);
+                let m = raw.iter().max().copied().unwrap();
+                assert_eq!(u32::from(maxima[(z * 3 + x) as usize]), m);
+            }
+        }
+        let mut short = [0u8; 5];
+        assert!(field.clone().with_cell_maxima(&mut short).is_none());
+        let wide = [0u16; 12];
+        let field16 =
+            HeightField::new(Samples::U16(&wide), 4, 3, HeightConvention::Gray16).unwrap();
+        let mut table = [0u8; 6];
+        assert!(field16.with_cell_maxima(&mut table).is_none());
     }
 
     fn lcg(state: &mut u64) -> u32 {

@@ -352,6 +352,13 @@ pub(crate) trait WalkGrid: SampleGrid {
     /// Raw samples of cell `(x, z)`'s corners:
     /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
     fn cell_raw(&self, x: u32, z: u32) -> [u32; 4];
+    /// Each cell's highest raw sample, one byte a cell by grid rows
+    /// ([`HeightField::with_cell_maxima`](crate::HeightField::with_cell_maxima)),
+    /// if the field has them.
+    #[inline(always)]
+    fn cell_maxima(&self) -> Option<&[u8]> {
+        None
+    }
     /// Called on entering a walk function, before its loops.
     #[inline(always)]
     fn enter(&self) {}
@@ -493,6 +500,11 @@ impl<F: WalkGrid, T: Sample> WalkGrid for Typed<'_, F, T> {
     #[inline(always)]
     fn block_bounds(&self, skip: &SkipGrid<'_>, level: u32, bi: u32, bj: u32) -> (u32, u32) {
         skip.walk_bounds_of(T::BYTES, level, bi, bj)
+    }
+
+    #[inline(always)]
+    fn cell_maxima(&self) -> Option<&[u8]> {
+        self.field.cell_maxima()
     }
 
     /// Tests the sample type once, so that `cell_raw` in the loops that
@@ -681,6 +693,21 @@ fn max_settling<S: Real>(t: S, t_a: S, settled: &mut bool) -> S {
         t
     }
 }
+
+/// The hard-float Cortex-M's walks cull a cell above the ray by the
+/// field's table of cell maxima, when it has one
+/// ([`HeightField::with_cell_maxima`](crate::HeightField::with_cell_maxima)):
+/// one byte read, not four corners and their maximum (and their bounds
+/// checks, all four kept on a 32-bit `usize`); the corners are read for
+/// the cells it does not cull. Measured (`run-qemu.sh`, Cortex-M4F frame
+/// instructions, the firmware's 28 KB table in RAM): `lcd` 38,786,768 ->
+/// 38,035,000 (−1.9%, 87,881 cell visits), `base` 10,131,028 ->
+/// 9,929,655 (−2.0%, 22,800) (with the cull's first test then left out:
+/// 37,683,171 and 9,817,637); `thesis`
+/// (no table: 261 K cells) 181,846,502 -> 182,280,428, its `main` alone
+/// +316 K (register choices in the shading, not the walk). Only hard-float
+/// bare metal: elsewhere the test is code and work without a table.
+const CELL_MAXIMA: bool = cfg!(all(target_os = "none", target_abi = "eabihf"));
 
 /// The walks get a second build for rays moving along both axes (no
 /// parallel-axis tests in their loops), unless the `compact` feature asks
@@ -891,6 +918,9 @@ impl<S: Real> Walk<S> {
     /// expression (monotone in the line), so the line is not past that edge
     /// (on the x87 the cell's index is tested too: [`GUARD_STEPS`]).
     ///
+    /// `maxima`: the field's cell maxima, in the walks that use them
+    /// ([`CELL_MAXIMA`]); `None` elsewhere.
+    ///
     /// `SETTLED`: the cursor was left by a visit whose exit parameter was
     /// not below its entry's (`settled`, which the other builds set): then
     /// neither is this one's (see [`SETTLE`]), and `t_b` is the exit's
@@ -899,6 +929,7 @@ impl<S: Real> Walk<S> {
     fn visit<const MOVING: bool, const ABOVE: bool, const SETTLED: bool, F: WalkGrid>(
         &self,
         field: &F,
+        maxima: Option<&[u8]>,
         c: &mut Cursor<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -947,16 +978,7 @@ impl<S: Real> Walk<S> {
             max_settling(t_exit, t_a, settled)
         };
 
-        // Raw samples: the extremes are taken before the conversion to
-        // heights (monotone), which then happens twice, not four times.
-        let raw = field.cell_raw(i as u32, j as u32);
         let mult = self.mult;
-        let r_max = raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
-        // (A closure: the `ABOVE` build takes the lowest corner in its
-        // start cell only, not in every cell; bench512: 38 instructions a
-        // shadow ray fewer; Cortex-M4F base 11.51 -> 11.44 M, lcd 44.31 ->
-        // 43.85 M.)
-        let r_min = || raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
         let y_a = c.y_a;
         let y_b = o[1] + t_b * d[1];
         // `y` is never NaN (finite ray, finite `t`): the ordered pair.
@@ -1017,11 +1039,37 @@ impl<S: Real> Walk<S> {
         // its water tests are left out, and the flag with them (full
         // render, instructions a pixel: bench512 2,162.0 -> 2,150.2,
         // rmnp_gradient 2,243.1 -> 2,229.9, level_rmnp 1,715.8 -> 1,705.7).
+        // [`CELL_MAXIMA`]: a cell above the ray, culled by its byte (the
+        // cull's first test below, on the same value).
+        let mut not_above = false;
+        if CELL_MAXIMA {
+            if let Some(maxima) = maxima {
+                let k = j as usize * self.cells_u as usize + i as usize;
+                if let Some(&m) = maxima.get(k) {
+                    if y_low > S::from_raw_height(m as u32, mult) {
+                        return step!(true);
+                    }
+                    // Known not culled as above: the corners' maximum
+                    // only for the water test (lcd 38,035,000 ->
+                    // 37,683,171, base 9,929,655 -> 9,817,637).
+                    not_above = true;
+                }
+            }
+        }
+        // Raw samples: the extremes are taken before the conversion to
+        // heights (monotone), which then happens twice, not four times.
+        let raw = field.cell_raw(i as u32, j as u32);
+        let r_max = || raw[0].max(raw[1]).max(raw[2]).max(raw[3]);
+        // (A closure: the `ABOVE` build takes the lowest corner in its
+        // start cell only, not in every cell; bench512: 38 instructions a
+        // shadow ray fewer; Cortex-M4F base 11.51 -> 11.44 M, lcd 44.31 ->
+        // 43.85 M.)
+        let r_min = || raw[0].min(raw[1]).min(raw[2]).min(raw[3]);
         let wet = !ABOVE && self.wet;
-        let culled = y_low > S::from_raw_height(r_max, mult)
+        let culled = (!not_above && y_low > S::from_raw_height(r_max(), mult))
             || ((!ABOVE || c.entry == Place::Interior)
                 && (y_high < S::from_raw_height(r_min(), mult)
-                    || (wet && (r_max * mult < self.water_units || y_high < self.water))));
+                    || (wet && (r_max() * mult < self.water_units || y_high < self.water))));
         #[cfg(x87)]
         if STEP_CULLED && !S::ALL_FINITE && culled {
             return step!(true);
@@ -1089,7 +1137,7 @@ impl<S: Real> Walk<S> {
         by_sample_type!(TYPED_INSIDE, field => {
             for _ in 0..max_steps {
                 counters.cells += 1;
-                match self.visit::<MOVING, false, false, _>(field, &mut c, stop, counters, &mut false) {
+                match self.visit::<MOVING, false, false, _>(field, None, &mut c, stop, counters, &mut false) {
                     Visit::Hit(h) => return Some(h),
                     Visit::Miss => return None,
                     Visit::Next | Visit::Above => {}
@@ -1191,7 +1239,9 @@ impl<S: Real> Walk<S> {
                 level -= 1;
             }
             counters.cells += 1;
-            match self.visit::<false, false, false, F>(field, &mut c, stop, counters, &mut false) {
+            match self
+                .visit::<false, false, false, F>(field, None, &mut c, stop, counters, &mut false)
+            {
                 Visit::Hit(h) => return Some(h),
                 Visit::Miss => return None,
                 Visit::Next | Visit::Above => {}
@@ -1360,6 +1410,14 @@ impl<S: Real> Walk<S> {
         // (Cortex-M4F base frame 13.29 -> 13.00 M without the count, its
         // tests and spills; bench512 callgrind 2,768 -> 2,713 a pixel.)
         let mut blocks = 0u32;
+        // [`CELL_MAXIMA`], in the `LEVEL1` builds only (fields of one or
+        // two levels, as the firmware's `base` and `lcd`): in the others
+        // (`thesis`, no table) the test cost its frame 181.85 -> 185.35 M.
+        let maxima = if CELL_MAXIMA && LEVEL1 {
+            field.cell_maxima()
+        } else {
+            None
+        };
         let hit = 'walk: loop {
             // Cells, while no block needs testing (the branch sites of the
             // cell and block loops stay apart: their outcomes differ).
@@ -1369,6 +1427,7 @@ impl<S: Real> Walk<S> {
                 let visit = if SETTLE && ABOVE && settled {
                     self.visit::<MOVING, ABOVE, true, F>(
                         field,
+                        maxima,
                         &mut c,
                         stop,
                         counters,
@@ -1377,6 +1436,7 @@ impl<S: Real> Walk<S> {
                 } else {
                     self.visit::<MOVING, ABOVE, false, F>(
                         field,
+                        maxima,
                         &mut c,
                         stop,
                         counters,

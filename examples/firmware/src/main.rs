@@ -269,6 +269,20 @@ fn main() -> ! {
         scene::FrameKind::Lcd => Ok(f.with_world_normals(&LCD_WORLD_NORMALS)?),
         scene::FrameKind::Thesis => Ok(f),
     });
+    // On the Cortex-M4F (RAM to spare) the `base` and `lcd` fields' cell
+    // maxima (`HeightField::with_cell_maxima`, 28 KB of `.bss`: flash has
+    // no room), with which the walks cull a cell by one byte.
+    #[cfg(target_abi = "eabihf")]
+    let field = field.map(|f| match kind {
+        scene::FrameKind::Thesis => f,
+        _ => {
+            // SAFETY: `main` runs once and never returns, and this is the
+            // table's only reference.
+            let table = unsafe { &mut *core::ptr::addr_of_mut!(CELL_MAXIMA) };
+            let cells = f.cell_count();
+            f.clone().with_cell_maxima(&mut table[..cells]).unwrap_or(f)
+        }
+    });
     let fields = match field {
         Ok(f) => [f],
         Err(e) => fail_because(&mut out, &["field:", scene::scene_error_name(&e)]),
@@ -337,6 +351,16 @@ fn main() -> ! {
         cortex_m::asm::wfi();
     }
 }
+
+/// Bytes of the cell maxima's table: the `lcd` field's cells (the `base`
+/// field has fewer).
+#[cfg(target_abi = "eabihf")]
+const CELL_MAXIMA_BYTES: usize =
+    (scene::LCD_FIELD_WIDTH as usize - 1) * (scene::LCD_FIELD_DEPTH as usize - 1);
+
+/// The cell maxima's table (`.bss`), written once by `main`.
+#[cfg(target_abi = "eabihf")]
+static mut CELL_MAXIMA: [u8; CELL_MAXIMA_BYTES] = [0; CELL_MAXIMA_BYTES];
 
 /// The `lcd` field's skip pyramid, built by `build.rs` (3.8 KB of flash
 /// instead of RAM).
