@@ -151,9 +151,11 @@ i486sx_dir="$i486_dir/fixed"
 # Added to .cargo/config.toml's i486 flags for the x87 builds (the i486
 # program, plain and `full`): LLVM's PBQP register allocator with its
 # coalescing, whose x87 code moves values on the FPU stack less than the
-# default (greedy) allocator's (see .cargo/config.toml for the figures). Not
-# for the 486SX build (integers per pixel), which it makes slower.
-i486_x87_config='target.i586-unknown-linux-gnu.rustflags=["-C", "llvm-args=-regalloc=pbqp", "-C", "llvm-args=-pbqp-coalescing"]'
+# default (greedy) allocator's, with MachineSink's sinking into loops to
+# avoid spills and compares not merged into one branch (see
+# .cargo/config.toml for the figures). Not for the 486SX build (integers
+# per pixel), which PBQP makes slower.
+i486_x87_config='target.i586-unknown-linux-gnu.rustflags=["-C", "llvm-args=-regalloc=pbqp", "-C", "llvm-args=-pbqp-coalescing", "-C", "llvm-args=-sink-insts-to-avoid-spills", "-C", "llvm-args=-x86-br-merging-base-cost=-1"]'
 echo "run-qemu.sh: building (log: $log)" >&2
 build() {
     local what="$1"
