@@ -144,6 +144,16 @@ pub enum HeightFieldError {
     /// A table of world-space vertex normals was written for another
     /// placement of the field.
     WorldNormalsPlacement,
+    /// A table of cell maxima is not [`HeightField::cell_count`] long.
+    CellMaxima {
+        /// [`HeightField::cell_count`].
+        expected: usize,
+        /// The table's length.
+        actual: usize,
+    },
+    /// Cell maxima were asked of 16-bit samples: the table holds a byte a
+    /// cell.
+    CellMaximaNeed8Bit,
 }
 
 impl core::fmt::Display for HeightFieldError {
@@ -181,6 +191,13 @@ impl core::fmt::Display for HeightFieldError {
             ),
             HeightFieldError::WorldNormalsPlacement => {
                 f.write_str("the world normal table was written for another placement")
+            }
+            HeightFieldError::CellMaxima { expected, actual } => write!(
+                f,
+                "a cell maxima table for this height field holds {expected} bytes, not {actual}"
+            ),
+            HeightFieldError::CellMaximaNeed8Bit => {
+                f.write_str("cell maxima hold a byte a cell; this height field has 16-bit samples")
             }
         }
     }
@@ -739,12 +756,18 @@ impl<'a> HeightField<'a> {
     /// read from there by the walks of the hard-float Cortex-M
     /// (`traversal::CELL_MAXIMA`), which then cull a cell
     /// above the ray with one byte, not its four corners (exactly the
-    /// cull's own test: the same pictures and work). `None` (and `table`
+    /// cull's own test: the same pictures and work). An error (and `table`
     /// untouched) unless the samples are bytes and `table` is
     /// [`cell_count`](Self::cell_count) long.
-    pub fn with_cell_maxima(mut self, table: &'a mut [u8]) -> Option<Self> {
-        if !matches!(self.samples, Samples::U8(_)) || table.len() != self.cell_count() {
-            return None;
+    pub fn with_cell_maxima(mut self, table: &'a mut [u8]) -> Result<Self, HeightFieldError> {
+        if !matches!(self.samples, Samples::U8(_)) {
+            return Err(HeightFieldError::CellMaximaNeed8Bit);
+        }
+        if table.len() != self.cell_count() {
+            return Err(HeightFieldError::CellMaxima {
+                expected: self.cell_count(),
+                actual: table.len(),
+            });
         }
         let cells_u = (self.width - 1) as usize;
         for (k, m) in table.iter_mut().enumerate() {
@@ -753,7 +776,7 @@ impl<'a> HeightField<'a> {
             *m = raw[0].max(raw[1]).max(raw[2]).max(raw[3]) as u8;
         }
         self.cell_maxima = Some(table);
-        Some(self)
+        Ok(self)
     }
 
     /// The same field walked in `mode`. Every mode gives bit-identical
@@ -2534,7 +2557,7 @@ mod tests {
         let with = field
             .clone()
             .with_cell_maxima(&mut table)
-            .expect("byte samples");
+            .expect("byte samples, a byte a cell");
         let maxima = with.cell_maxima.expect("kept");
         for z in 0..2 {
             for x in 0..3 {
@@ -2544,12 +2567,21 @@ mod tests {
             }
         }
         let mut short = [0u8; 5];
-        assert!(field.clone().with_cell_maxima(&mut short).is_none());
+        assert_eq!(
+            field.clone().with_cell_maxima(&mut short).err(),
+            Some(HeightFieldError::CellMaxima {
+                expected: 6,
+                actual: 5
+            })
+        );
         let wide = [0u16; 12];
         let field16 =
             HeightField::new(Samples::U16(&wide), 4, 3, HeightConvention::Gray16).unwrap();
         let mut table = [0u8; 6];
-        assert!(field16.with_cell_maxima(&mut table).is_none());
+        assert_eq!(
+            field16.with_cell_maxima(&mut table).err(),
+            Some(HeightFieldError::CellMaximaNeed8Bit)
+        );
     }
 
     fn lcg(state: &mut u64) -> u32 {

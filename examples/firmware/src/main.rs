@@ -273,14 +273,14 @@ fn main() -> ! {
     // maxima (`HeightField::with_cell_maxima`, 28 KB of `.bss`: flash has
     // no room), with which the walks cull a cell by one byte.
     #[cfg(target_abi = "eabihf")]
-    let field = field.map(|f| match kind {
-        scene::FrameKind::Thesis => f,
+    let field = field.and_then(|f| match kind {
+        scene::FrameKind::Thesis => Ok(f),
         _ => {
             // SAFETY: `main` runs once and never returns, and this is the
             // table's only reference.
             let table = unsafe { &mut *core::ptr::addr_of_mut!(CELL_MAXIMA) };
             let cells = f.cell_count();
-            f.clone().with_cell_maxima(&mut table[..cells]).unwrap_or(f)
+            Ok(f.with_cell_maxima(&mut table[..cells])?)
         }
     });
     let fields = match field {
