@@ -705,9 +705,15 @@ fn max_settling<S: Real>(t: S, t_a: S, settled: &mut bool) -> S {
 /// 9,929,655 (−2.0%, 22,800) (with the cull's first test then left out:
 /// 37,683,171 and 9,817,637); `thesis`
 /// (no table: 261 K cells) 181,846,502 -> 182,280,428, its `main` alone
-/// +316 K (register choices in the shading, not the walk). Only hard-float
-/// bare metal: elsewhere the test is code and work without a table.
-const CELL_MAXIMA: bool = cfg!(all(target_os = "none", target_abi = "eabihf"));
+/// +316 K (register choices in the shading, not the walk). Also the x87
+/// builds, whose i486 program makes the table for every scene (261 KB for
+/// `thesis`, before the frame): i486 frame instructions base 14,235,251
+/// -> 13,900,555, lcd 54,785,390 -> 53,419,257, thesis 225,759,420 ->
+/// 220,834,313 (every walk build there, three levels too); the 486SX's
+/// fixed-point frames base 43,854,464 -> 43,356,751, lcd 159,734,625 ->
+/// 157,877,323. Not elsewhere: there the test is code and work without a
+/// table.
+const CELL_MAXIMA: bool = cfg!(any(all(target_os = "none", target_abi = "eabihf"), x87));
 
 /// The walks get a second build for rays moving along both axes (no
 /// parallel-axis tests in their loops), unless the `compact` feature asks
@@ -1410,10 +1416,12 @@ impl<S: Real> Walk<S> {
         // (Cortex-M4F base frame 13.29 -> 13.00 M without the count, its
         // tests and spills; bench512 callgrind 2,768 -> 2,713 a pixel.)
         let mut blocks = 0u32;
-        // [`CELL_MAXIMA`], in the `LEVEL1` builds only (fields of one or
-        // two levels, as the firmware's `base` and `lcd`): in the others
-        // (`thesis`, no table) the test cost its frame 181.85 -> 185.35 M.
-        let maxima = if CELL_MAXIMA && LEVEL1 {
+        // [`CELL_MAXIMA`], in the `LEVEL1` builds only on the Cortex-M4F
+        // (fields of one or two levels, as the firmware's `base` and `lcd`):
+        // in the others (`thesis`, no table) the test cost its frame
+        // 181.85 -> 185.35 M. In every build on the x87, whose `thesis` has
+        // a table (see there).
+        let maxima = if CELL_MAXIMA && (LEVEL1 || cfg!(x87)) {
             field.cell_maxima()
         } else {
             None

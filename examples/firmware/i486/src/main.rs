@@ -70,6 +70,15 @@ static mut THESIS_FIELD: [u8; scene::THESIS_SAMPLES] = [0; scene::THESIS_SAMPLES
 /// The skip pyramid of whichever field the scene draws (the largest, the
 /// thesis field's, is 34 KB).
 static mut PYRAMID: [u8; scene::THESIS_SKIP_BYTES] = [0; scene::THESIS_SKIP_BYTES];
+/// Bytes of the cell maxima's table: the `thesis` field's cells (the
+/// others have fewer).
+const CELL_MAXIMA_BYTES: usize =
+    (scene::THESIS_SIDE as usize - 1) * (scene::THESIS_SIDE as usize - 1);
+/// Each cell's highest sample, one byte a cell, of whichever field the
+/// scene draws (`HeightField::with_cell_maxima`, written before the frame),
+/// with which the walks cull a cell above the ray by one byte
+/// (`hfray::traversal`'s `CELL_MAXIMA` has the figures).
+static mut CELL_MAXIMA: [u8; CELL_MAXIMA_BYTES] = [0; CELL_MAXIMA_BYTES];
 /// The smooth-shading vertex normals of the scene's field in world space,
 /// written at run time before the frame (the largest smooth field, `lcd`'s,
 /// takes 341 KB; the `thesis` field is flat).
@@ -466,6 +475,16 @@ extern "C" fn start(stack_top: usize, entry_sp: usize) -> ! {
             Ok(f) => f,
             Err(_) => fail("normals"),
         }
+    };
+    // SAFETY: taken once, here; nothing else names this static.
+    let maxima = unsafe { &mut *addr_of_mut!(CELL_MAXIMA) };
+    let cells = field.cell_count();
+    let Some(table) = maxima.get_mut(..cells) else {
+        fail("cell-maxima")
+    };
+    let field = match field.with_cell_maxima(table) {
+        Ok(f) => f,
+        Err(_) => fail("cell-maxima"),
     };
     let fields = [field];
     // O_WRONLY | O_CREAT | O_TRUNC, mode 0644.
