@@ -1497,14 +1497,16 @@ impl<S: Real> Walk<S> {
                 // frame 220,834,313 -> 219,964,371 instructions: fewer
                 // climbs that fail and descend again; base 13,900,555 ->
                 // 13,903,179, lcd 53,419,257 -> 53,445,305, one level
-                // there, code layout). Tried too: climbing from a block
+                // there, code layout; floats only: the 486SX's fixed-point
+                // frames took base 43,356,751 -> 43,495,947, lcd
+                // 157,877,323 -> 158,439,506). Tried too: climbing from a block
                 // step by one level at most, 221,844,090; climbing only to
                 // a level whose block `c.y_a` does not rule out culling
                 // (its bounds read first), 221,812,492.
                 let moved = ((pi ^ c.i) | (pj ^ c.j)) as u32;
                 if !ABOVE && moved >> log2 != 0 {
                     // (The level-1 block changed: `changed_level` ≥ 1.)
-                    level = if LEVEL1 || cfg!(x87) {
+                    level = if LEVEL1 || (cfg!(x87) && !S::ALL_FINITE) {
                         1
                     } else {
                         changed_level(moved, recip, top)
