@@ -2259,7 +2259,11 @@ fn up(d: f32, inv: f32) -> bool {
 /// copied into the lane's slot and read back (callgrind, full render,
 /// instructions a pixel: bench512 2,046.8 -> 2,028.1, rmnp_gradient
 /// 2,127.8 -> 2,114.6; the walk made per lane there but still built
-/// before the grouping, as `footprint_walk` made it: 2,043.6).
+/// before the grouping, as `footprint_walk` made it: 2,043.6). One type
+/// for both ways, the axes made from the reciprocals' signs where the walk
+/// is made (was a second type for the grouped lanes: bench512 2,027.7 ->
+/// 2,019.1, rmnp_gradient 2,114.0 -> 2,107.9, level_rmnp 1,612.6 ->
+/// 1,606.2).
 #[derive(Clone, Copy)]
 struct LaneWalk {
     o: [f32; 3],
