@@ -123,7 +123,7 @@ impl RayPacket {
 
     /// Lane `l` as a grid ray.
     #[inline(always)]
-    fn grid_ray(&self, l: usize) -> GridRay<f32> {
+    pub(crate) fn grid_ray(&self, l: usize) -> GridRay<f32> {
         GridRay {
             origin: [0, 1, 2].map(|k| self.origin[k][l]),
             direction: [0, 1, 2].map(|k| self.direction[k][l]),
