@@ -2089,6 +2089,13 @@ impl FootprintStart {
         })
     }
 
+    /// The start at cell `(i, j)`, which the caller found as
+    /// [`of`](Self::of) finds it (`packet::footprint_starts`).
+    #[inline(always)]
+    pub(crate) fn at(i: i32, j: i32) -> Self {
+        FootprintStart { i, j }
+    }
+
     /// The cell's column and row.
     #[inline(always)]
     pub(crate) fn cell(&self) -> (u32, u32) {
