@@ -1713,7 +1713,7 @@ impl<'a> HeightField<'a> {
     #[inline(never)]
     pub(crate) fn occludes_lanes<const N: usize>(
         &self,
-        rays: &[Option<traversal::ShadowLane>; N],
+        rays: &traversal::ShadowLanes<'_, N>,
         lanes: u32,
         counters: &mut Counters,
     ) -> u32 {

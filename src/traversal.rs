@@ -2315,15 +2315,20 @@ impl LaneWalk {
     }
 }
 
-/// A shadow ray of a packet's lane for [`occluded_lanes`]: its grid ray,
-/// the start of its walk, its `t_max` and `above`, as
-/// [`nearest_from_footprint`] takes them.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct ShadowLane {
-    pub(crate) ray: GridRay<f32>,
-    pub(crate) start: FootprintStart,
-    pub(crate) t_max: f32,
-    pub(crate) above: bool,
+/// The shadow rays of a packet's lanes for [`occluded_lanes`], lane by
+/// lane: lane `l`'s grid ray, the start of its walk, its `t_max` and
+/// `above` (bit `l`), as [`nearest_from_footprint`] takes them. Borrowed
+/// where the shading set them up, lane-wise: not copied into a slot for
+/// each lane (callgrind, full render, instructions a pixel: see
+/// `shading::shadow_set_up`).
+#[derive(Clone, Copy)]
+pub(crate) struct ShadowLanes<'a, const N: usize> {
+    /// Each lane's origin, then direction, component by component.
+    pub(crate) origin: &'a [[f32; N]; 3],
+    pub(crate) direction: &'a [[f32; N]; 3],
+    pub(crate) start: &'a [FootprintStart; N],
+    pub(crate) t_max: &'a [f32; N],
+    pub(crate) above: u32,
 }
 
 /// Whether [`nearest_from_footprint`] finds a hit, for each lane `l` of
@@ -2343,7 +2348,7 @@ pub(crate) struct ShadowLane {
 #[inline(always)]
 pub(crate) fn occluded_lanes<F: WalkGrid, const N: usize>(
     field: &F,
-    rays: &[Option<ShadowLane>; N],
+    rays: &ShadowLanes<'_, N>,
     lanes: u32,
     counters: &mut Counters,
 ) -> u32 {
@@ -2364,16 +2369,17 @@ pub(crate) fn occluded_lanes<F: WalkGrid, const N: usize>(
     while rest != 0 {
         let l = rest.trailing_zeros() as usize % N;
         rest &= rest - 1;
-        let Some(r) = &rays[l] else {
-            continue;
+        let ray = GridRay {
+            origin: [0, 1, 2].map(|k| rays.origin[k][l]),
+            direction: [0, 1, 2].map(|k| rays.direction[k][l]),
         };
         // A grouped lane's answer comes from its build's walk, below.
         let hit = footprint_walk(
             field,
-            &r.ray,
-            r.start,
-            r.t_max,
-            r.above,
+            &ray,
+            rays.start[l],
+            rays.t_max[l],
+            rays.above >> l & 1 != 0,
             counters,
             |lane, above, counters| {
                 // `walk_from`'s choice of `walk_hdda_moving`'s `ABOVE`
