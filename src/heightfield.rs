@@ -1431,6 +1431,12 @@ impl<'a> HeightField<'a> {
         hits
     }
 
+    /// [`grid_ray`](Self::grid_ray) of each lane of `rays`, in `f32`.
+    #[inline(always)]
+    pub(crate) fn grid_rays(&self, rays: &RayPacket) -> RayPacket {
+        packet::map_f32(&self.world_to_grid, rays)
+    }
+
     /// The grid hits of `rays` walked in `f32`, as
     /// [`intersect_in`](Self::intersect_in) finds them one by one.
     #[inline(always)]
@@ -1707,7 +1713,7 @@ impl<'a> HeightField<'a> {
     #[inline(never)]
     pub(crate) fn occludes_lanes<const N: usize>(
         &self,
-        rays: &[Option<traversal::ShadowLane>; N],
+        rays: &traversal::ShadowLanes<'_, N>,
         lanes: u32,
         counters: &mut Counters,
     ) -> u32 {

@@ -71,8 +71,8 @@ use crate::real::Real;
 use crate::skip::SkipGrid;
 use crate::transform::GridTransform;
 use crate::traversal::{
-    nearest, nearest_in_column, Axis, ColumnStart, ColumnState, Counters, GridHit, GridRay,
-    LaneSource, Resume, Traversal, Walk, WalkGrid,
+    nearest, nearest_in_column, Axis, ColumnStart, ColumnState, Counters, FootprintStart, GridHit,
+    GridRay, LaneSource, Resume, Traversal, Walk, WalkGrid,
 };
 
 /// Rays per packet: eight (two SSE2 registers per component on x86-64)
@@ -123,7 +123,7 @@ impl RayPacket {
 
     /// Lane `l` as a grid ray.
     #[inline(always)]
-    fn grid_ray(&self, l: usize) -> GridRay<f32> {
+    pub(crate) fn grid_ray(&self, l: usize) -> GridRay<f32> {
         GridRay {
             origin: [0, 1, 2].map(|k| self.origin[k][l]),
             direction: [0, 1, 2].map(|k| self.direction[k][l]),
@@ -282,21 +282,22 @@ fn floor4(x: Vec4, bias: f32) -> Vec4 {
 }
 
 /// [`first_cell`] of each walked lane's entry coordinate `p` (within
-/// `0..=cells`, at most 2^20) along an axis on which its direction is `d`
-/// (not zero), lane-wise on `Vec4`s, with the same result: the floor of
-/// `p`, one less on a grid line when moving down, within the cells. The
+/// `0..=cells`, at most 2^20) along an axis on which its direction is `d`,
+/// stepping down where `d < 0` (as [`nearest`] and `FootprintStart::of`
+/// step), lane-wise on `Vec4`s, with the same result: the floor of `p`,
+/// one less on a grid line when moving down, within the cells. The
 /// integers are in `f32`, exact below 2^23, and come out of the bits of
 /// `2^23 + c`: no saturating conversion, which LLVM keeps scalar. (The
 /// lanes that are not walked get some cell.) Bench512: 12 instructions a
 /// primary ray fewer than lane by lane, rmnp_gradient 11, level_rmnp 16.
 /// The cells also in `f32`, as a [`pair`].
 #[inline(always)]
-fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> ([i32; LANES], [Vec4; 2]) {
+pub(crate) fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> ([i32; LANES], [Vec4; 2]) {
     let (p, d) = (pair(p), pair(d));
     let one_if = |m: BVec4A| Vec4::select(m, Vec4::ONE, Vec4::ZERO);
     let half = |h: usize| {
         let floor = floor4(p[h], TWO_23);
-        let back = one_if(floor.cmpeq(p[h]) & d[h].cmple(Vec4::ZERO));
+        let back = one_if(floor.cmpeq(p[h]) & d[h].cmplt(Vec4::ZERO));
         (floor - back)
             .max(Vec4::ZERO)
             .min(Vec4::splat((cells - 1) as f32))
@@ -311,6 +312,35 @@ fn first_cells(p: &Lanes, d: &Lanes, cells: i32) -> ([i32; LANES], [Vec4; 2]) {
         i[l] = (c[l].to_bits() - TWO_23.to_bits()) as i32;
     }
     (i, cells)
+}
+
+/// `FootprintStart::of` each lane of `rays` (grid rays): bit `l` of the
+/// mask says lane `l` has its start, `starts[l]`. Lane-wise on `Vec4`s
+/// (its tests, and [`first_cells`], the same results; a lane off the
+/// footprint gets some cell), for the shadow rays of a packet's lanes
+/// (`shading::shadow_set_up`).
+#[inline(always)]
+pub(crate) fn footprint_starts<F: WalkGrid>(
+    field: &F,
+    rays: &RayPacket,
+) -> (u32, [FootprintStart; LANES]) {
+    let [u, y, v] = &rays.origin;
+    let cells_u = field.width() as i32 - 1;
+    let cells_v = field.depth() as i32 - 1;
+    let (pu, py, pv) = (pair(u), pair(y), pair(v));
+    let (top_u, top_v) = (Vec4::splat(cells_u as f32), Vec4::splat(cells_v as f32));
+    let inside = |h: usize| {
+        (pu[h].cmpge(Vec4::ZERO)
+            & pv[h].cmpge(Vec4::ZERO)
+            & pu[h].cmple(top_u)
+            & pv[h].cmple(top_v)
+            & py[h].abs().cmple(Vec4::splat(f32::MAX)))
+        .bitmask()
+    };
+    let mask = inside(0) | inside(1) << 4;
+    let (i, _) = first_cells(u, &rays.direction[0], cells_u);
+    let (j, _) = first_cells(v, &rays.direction[2], cells_v);
+    (mask, lanes(|l| FootprintStart::at(i[l], j[l])))
 }
 
 /// [`nearest`] (not `any`) for each of `rays`, over the same `[t_min,

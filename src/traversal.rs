@@ -2108,6 +2108,13 @@ impl FootprintStart {
         })
     }
 
+    /// The start at cell `(i, j)`, which the caller found as
+    /// [`of`](Self::of) finds it (`packet::footprint_starts`).
+    #[inline(always)]
+    pub(crate) fn at(i: i32, j: i32) -> Self {
+        FootprintStart { i, j }
+    }
+
     /// The cell's column and row.
     #[inline(always)]
     pub(crate) fn cell(&self) -> (u32, u32) {
@@ -2160,13 +2167,11 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
     footprint_walk(
         field,
         ray,
+        start,
         t_max,
         above,
         counters,
-        |lane, above, counters| {
-            lane.walk(field)
-                .walk_from_entry(field, start.i, start.j, 0.0, above, counters)
-        },
+        |lane, above, counters| lane.walk_from_start(field, above, counters),
     )
 }
 
@@ -2184,6 +2189,7 @@ pub(crate) fn nearest_from_footprint<F: WalkGrid>(
 fn footprint_walk<F: WalkGrid>(
     field: &F,
     ray: &GridRay<f32>,
+    start: FootprintStart,
     t_max: f32,
     above: bool,
     counters: &mut Counters,
@@ -2221,22 +2227,6 @@ fn footprint_walk<F: WalkGrid>(
     if max_units < field.water_units() {
         return None; // everything is under water
     }
-    // Lane `k` points up: `d[k] > 0`, and `inv[k] > 0`, as the direction
-    // moves (finite and non-zero, as its reciprocal): off x86-64 and
-    // aarch64 the sign bit of the reciprocal, an integer test, not a float
-    // compare and its flag move (frames: Cortex-M4F lcd 39.59 -> 39.54 M,
-    // base 10.36 -> 10.35 M instructions).
-    #[cfg(desktop)]
-    let up = |k: usize| d[k] > 0.0;
-    #[cfg(not(desktop))]
-    let up = |k: usize| inv[k].to_bits() >> 31 == 0;
-    // `Axis::new` of a moving component.
-    let axis = |k: usize| Axis {
-        step: if up(k) { 1 } else { -1 },
-        off: up(k) as i32,
-        inv: inv[k],
-    };
-    let (au, av) = (axis(0), axis(2));
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;
     // The far ends of `slab`'s clips, in its order: each slab's larger
@@ -2256,7 +2246,7 @@ fn footprint_walk<F: WalkGrid>(
     let far = (Vec3A::select(inv.cmpgt(Vec3A::ZERO), hi, lo) - origin) * inv;
     #[cfg(not(desktop))]
     let far = {
-        let side = |k: usize| if up(k) { hi[k] } else { lo[k] };
+        let side = |k: usize| if up(d[k], inv[k]) { hi[k] } else { lo[k] };
         (Vec3A::new(side(0), side(1), side(2)) - origin) * inv
     };
     let t_max = if t_max.is_finite() { t_max } else { f32::MAX };
@@ -2264,48 +2254,100 @@ fn footprint_walk<F: WalkGrid>(
     let lane = LaneWalk {
         o: *o,
         d: *d,
-        au,
-        av,
+        inv: [inv.x, inv.z],
         t_far,
+        start,
     };
     // `!walk.wet` (`Walk::new`).
     let above = above && field.water_units() == 0;
     walk_it(lane, above, counters)
 }
 
-/// [`footprint_walk`]'s walk, what is the ray's own: the walk is made
-/// ([`walk`](Self::walk)) where it is walked, not where a lane is grouped
-/// ([`occluded_lanes`]), which keeps only its own parts
-/// ([`GroupedWalk`]).
+/// Whether a moving direction component `d` (finite, non-zero, its
+/// reciprocal `inv` too) points up: `d > 0`, and `inv > 0`; off x86-64
+/// and aarch64 the sign bit of the reciprocal, an integer test, not a
+/// float compare and its flag move (frames: Cortex-M4F lcd 39.59 ->
+/// 39.54 M, base 10.36 -> 10.35 M instructions).
+#[inline(always)]
+fn up(d: f32, inv: f32) -> bool {
+    if cfg!(desktop) {
+        d > 0.0
+    } else {
+        inv.to_bits() >> 31 == 0
+    }
+}
+
+/// [`footprint_walk`]'s walk, its parts that are the ray's own (the rest
+/// is the field's, reloaded where the walk is made, [`walk`](Self::walk)):
+/// the walk is made where it is walked, by [`nearest_from_footprint`] or,
+/// for a lane it groups, by [`Walk::shadow_lanes_in`], not where
+/// [`occluded_lanes`] groups it. Not the whole walk, built for every lane,
+/// copied into the lane's slot and read back (callgrind, full render,
+/// instructions a pixel: bench512 2,046.8 -> 2,028.1, rmnp_gradient
+/// 2,127.8 -> 2,114.6; the walk made per lane there but still built
+/// before the grouping, as `footprint_walk` made it: 2,043.6). One type
+/// for both ways, the axes made from the reciprocals' signs where the walk
+/// is made (was a second type for the grouped lanes: bench512 2,027.7 ->
+/// 2,019.1, rmnp_gradient 2,114.0 -> 2,107.9, level_rmnp 1,612.6 ->
+/// 1,606.2).
 #[derive(Clone, Copy)]
 struct LaneWalk {
     o: [f32; 3],
     d: [f32; 3],
-    au: Axis<f32>,
-    av: Axis<f32>,
+    /// `1/d` along `u` and `v` (moving: finite and non-zero).
+    inv: [f32; 2],
     t_far: f32,
+    start: FootprintStart,
 }
 
 impl LaneWalk {
+    /// `Axis::new` of the moving component along `u` (`k` 0) or `v` (1).
+    #[inline(always)]
+    fn axis(&self, k: usize) -> Axis<f32> {
+        let up = up(self.d[2 * k], self.inv[k]);
+        Axis {
+            step: if up { 1 } else { -1 },
+            off: up as i32,
+            inv: self.inv[k],
+        }
+    }
+
     /// The walk (`any`: from the cells).
     #[inline(always)]
     fn walk<F: WalkGrid>(&self, field: &F) -> Walk<f32> {
         let water = field.water_level();
-        Walk::new(
-            field, self.o, self.d, self.au, self.av, self.t_far, water, true,
-        )
+        let (au, av) = (self.axis(0), self.axis(1));
+        Walk::new(field, self.o, self.d, au, av, self.t_far, water, true)
+    }
+
+    /// The walk from the start (`above`: see [`nearest_from_footprint`]).
+    #[inline(always)]
+    fn walk_from_start<F: WalkGrid>(
+        &self,
+        field: &F,
+        above: bool,
+        counters: &mut Counters,
+    ) -> Option<GridHit<f32>> {
+        let (i, j) = (self.start.i, self.start.j);
+        self.walk(field)
+            .walk_from_entry(field, i, j, 0.0, above, counters)
     }
 }
 
-/// A shadow ray of a packet's lane for [`occluded_lanes`]: its grid ray,
-/// the start of its walk, its `t_max` and `above`, as
-/// [`nearest_from_footprint`] takes them.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct ShadowLane {
-    pub(crate) ray: GridRay<f32>,
-    pub(crate) start: FootprintStart,
-    pub(crate) t_max: f32,
-    pub(crate) above: bool,
+/// The shadow rays of a packet's lanes for [`occluded_lanes`], lane by
+/// lane: lane `l`'s grid ray, the start of its walk, its `t_max` and
+/// `above` (bit `l`), as [`nearest_from_footprint`] takes them. Borrowed
+/// where the shading set them up, lane-wise: not copied into a slot for
+/// each lane (callgrind, full render, instructions a pixel: see
+/// `shading::shadow_set_up`).
+#[derive(Clone, Copy)]
+pub(crate) struct ShadowLanes<'a, const N: usize> {
+    /// Each lane's origin, then direction, component by component.
+    pub(crate) origin: &'a [[f32; N]; 3],
+    pub(crate) direction: &'a [[f32; N]; 3],
+    pub(crate) start: &'a [FootprintStart; N],
+    pub(crate) t_max: &'a [f32; N],
+    pub(crate) above: u32,
 }
 
 /// Whether [`nearest_from_footprint`] finds a hit, for each lane `l` of
@@ -2325,14 +2367,14 @@ pub(crate) struct ShadowLane {
 #[inline(always)]
 pub(crate) fn occluded_lanes<F: WalkGrid, const N: usize>(
     field: &F,
-    rays: &[Option<ShadowLane>; N],
+    rays: &ShadowLanes<'_, N>,
     lanes: u32,
     counters: &mut Counters,
 ) -> u32 {
     let mut occluded = 0u32;
     // The walks of the grouped lanes, by build: level 1 only, `su > 0`,
     // `sv > 0` (bits 2, 1, 0 of the index).
-    let mut walks = [None::<GroupedWalk>; N];
+    let mut walks = [None::<LaneWalk>; N];
     // `Walk::new`'s.
     let cells_u = field.width() as i32 - 1;
     let cells_v = field.depth() as i32 - 1;
@@ -2346,15 +2388,17 @@ pub(crate) fn occluded_lanes<F: WalkGrid, const N: usize>(
     while rest != 0 {
         let l = rest.trailing_zeros() as usize % N;
         rest &= rest - 1;
-        let Some(r) = &rays[l] else {
-            continue;
+        let ray = GridRay {
+            origin: [0, 1, 2].map(|k| rays.origin[k][l]),
+            direction: [0, 1, 2].map(|k| rays.direction[k][l]),
         };
         // A grouped lane's answer comes from its build's walk, below.
         let hit = footprint_walk(
             field,
-            &r.ray,
-            r.t_max,
-            r.above,
+            &ray,
+            rays.start[l],
+            rays.t_max[l],
+            rays.above >> l & 1 != 0,
             counters,
             |lane, above, counters| {
                 // `walk_from`'s choice of `walk_hdda_moving`'s `ABOVE`
@@ -2363,24 +2407,17 @@ pub(crate) fn occluded_lanes<F: WalkGrid, const N: usize>(
                 let grouped = skip.is_some()
                     && above
                     && lane.d[1] >= 0.0
-                    && f32::strict_boundaries_inside(lane.o[0], lane.au.inv, 0, cells_u)
-                    && f32::strict_boundaries_inside(lane.o[2], lane.av.inv, 0, cells_v);
+                    && f32::strict_boundaries_inside(lane.o[0], lane.inv[0], 0, cells_u)
+                    && f32::strict_boundaries_inside(lane.o[2], lane.inv[1], 0, cells_v);
                 if grouped {
                     let b = usize::from(top == 1) << 2
-                        | usize::from(lane.au.step > 0) << 1
-                        | usize::from(lane.av.step > 0);
+                        | usize::from(lane.axis(0).step > 0) << 1
+                        | usize::from(lane.axis(1).step > 0);
                     builds[b] |= 1 << l;
-                    walks[l] = Some(GroupedWalk {
-                        o: lane.o,
-                        d: lane.d,
-                        inv: [lane.au.inv, lane.av.inv],
-                        t_far: lane.t_far,
-                        start: r.start,
-                    });
+                    walks[l] = Some(lane);
                     return None;
                 }
-                lane.walk(field)
-                    .walk_from_entry(field, r.start.i, r.start.j, 0.0, above, counters)
+                lane.walk_from_start(field, above, counters)
             },
         )
         .is_some();
@@ -2407,25 +2444,6 @@ pub(crate) fn occluded_lanes<F: WalkGrid, const N: usize>(
     build!(6, true, 1, -1);
     build!(7, true, 1, 1);
     occluded
-}
-
-/// What a lane grouped by [`occluded_lanes`] needs to make its walk again
-/// in [`Walk::shadow_lanes_in`]: the parts of `footprint_walk`'s walk that
-/// are the lane's own (the rest is the field's, or known from the build:
-/// the steps, `rising`, `wet` false), with the start. Not the whole walk,
-/// which was built for every lane, copied into the lane's slot and read
-/// back (callgrind, full render, instructions a pixel: bench512 2,046.8 ->
-/// 2,028.1, rmnp_gradient 2,127.8 -> 2,114.6; the walk made per lane here
-/// but still built before the grouping, as `footprint_walk` made it:
-/// 2,043.6).
-#[derive(Clone, Copy)]
-struct GroupedWalk {
-    o: [f32; 3],
-    d: [f32; 3],
-    /// `1/d` along `u` and `v`.
-    inv: [f32; 2],
-    t_far: f32,
-    start: FootprintStart,
 }
 
 /// The walk's axis of each direction component.
@@ -3473,29 +3491,28 @@ impl Walk<f32> {
         skip: &SkipGrid<'_>,
         top: u8,
         lanes: u32,
-        walks: &[Option<GroupedWalk>; N],
+        walks: &[Option<LaneWalk>; N],
         counters: &mut Counters,
     ) -> u32 {
         field.enter();
-        let water = field.water_level();
         by_sample_type!(TYPED_INSIDE, field => {
             let mut occluded = 0u32;
             let mut lanes = lanes;
             while lanes != 0 {
                 let l = lanes.trailing_zeros() as usize % N;
                 lanes &= lanes - 1;
-                let Some(GroupedWalk { o, d, inv, t_far, start }) = walks[l] else {
+                let Some(lane) = walks[l] else {
                     continue;
                 };
-                // `footprint_walk`'s walk again, its steps those of the
-                // build (`signed` below).
-                let axis = |inv: f32| Axis { step: 0, off: 0, inv };
-                let walk = Walk::new(field, o, d, axis(inv[0]), axis(inv[1]), t_far, water, true);
+                // `footprint_walk`'s walk, its steps those of the build
+                // (`signed` below).
+                let walk = lane.walk(field);
                 debug_assert!(walk.rising && !walk.wet);
+                debug_assert!(walk.au.step == SU && walk.av.step == SV);
                 debug_assert!((top == 1) == LEVEL1);
                 let start = Resume {
-                    i: start.i,
-                    j: start.j,
+                    i: lane.start.i,
+                    j: lane.start.j,
                     t_a: 0.0,
                     entry: Place::Interior,
                 };
