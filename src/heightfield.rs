@@ -25,7 +25,7 @@ use crate::real::{Numeric, Real};
 use crate::skip::{SampleGrid, SkipError, SkipGrid};
 use crate::transform::{GridTransform, Transform};
 use crate::traversal::{
-    self, cell_index, corners_raw, Counters, FootprintStart, GridHit, GridRay, OriginSlabs, Sample,
+    self, cell_index, corners_raw, CellMaxima, Counters, FootprintStart, GridHit, GridRay, OriginSlabs, Sample,
     Traversal, WalkGrid,
 };
 
@@ -151,9 +151,6 @@ pub enum HeightFieldError {
         /// The table's length.
         actual: usize,
     },
-    /// Cell maxima were asked of 16-bit samples: the table holds a byte a
-    /// cell.
-    CellMaximaNeed8Bit,
 }
 
 impl core::fmt::Display for HeightFieldError {
@@ -196,9 +193,6 @@ impl core::fmt::Display for HeightFieldError {
                 f,
                 "a cell maxima table for this height field holds {expected} bytes, not {actual}"
             ),
-            HeightFieldError::CellMaximaNeed8Bit => {
-                f.write_str("cell maxima hold a byte a cell; this height field has 16-bit samples")
-            }
         }
     }
 }
@@ -259,7 +253,8 @@ pub struct HeightField<'a> {
     /// ([`with_world_normals`](Self::with_world_normals)); dropped when the
     /// transform changes.
     world_normals: Option<&'a [u8]>,
-    /// Each cell's highest raw sample, one byte a cell
+    /// Each cell's highest raw sample, one byte a cell, in steps of
+    /// [`cell_maxima_step`](Self::cell_maxima_step)
     /// ([`with_cell_maxima`](Self::with_cell_maxima)).
     cell_maxima: Option<&'a [u8]>,
     skip: Option<SkipGrid<'a>>,
@@ -751,29 +746,55 @@ impl<'a> HeightField<'a> {
         (self.width - 1) as usize * (self.depth - 1) as usize
     }
 
-    /// The same field with each cell's highest raw sample written into
-    /// `table` (one byte a cell, grid row by grid row from `z = 0`) and
-    /// read from there by the walks of the hard-float Cortex-M
-    /// (`traversal::CELL_MAXIMA`), which then cull a cell
-    /// above the ray with one byte, not its four corners (exactly the
-    /// cull's own test: the same pictures and work). An error (and `table`
-    /// untouched) unless the samples are bytes and `table` is
-    /// [`cell_count`](Self::cell_count) long.
-    pub fn with_cell_maxima(mut self, table: &'a mut [u8]) -> Result<Self, HeightFieldError> {
-        if !matches!(self.samples, Samples::U8(_)) {
-            return Err(HeightFieldError::CellMaximaNeed8Bit);
+    /// Raw samples a step of the cell maxima's bytes: 1 (the bytes are the
+    /// maxima) unless the highest sample is above 255 (16-bit samples),
+    /// then the fewest that take it within a byte, each cell's maximum
+    /// rounded up to a step (a bound, not the maximum: the walks then test
+    /// the corners of the cells it does not cull).
+    fn cell_maxima_step(&self) -> u32 {
+        (self.max_units / self.units_per_sample())
+            .div_ceil(255)
+            .max(1)
+    }
+
+    /// Writes this field's cell maxima into `out`
+    /// ([`cell_count`](Self::cell_count) long), grid row by grid row from
+    /// `z = 0`: a byte a cell, its highest raw sample (samples above 255,
+    /// 16-bit ones, are counted in steps of the fewest that keep the
+    /// field's highest within a byte, each cell's rounded up). A program
+    /// computes them once per field, or keeps them with the samples, and
+    /// hands them to [`with_cell_maxima`](Self::with_cell_maxima).
+    pub fn write_cell_maxima(&self, out: &mut [u8]) -> Result<(), HeightFieldError> {
+        let expected = self.cell_count();
+        if out.len() != expected {
+            return Err(HeightFieldError::CellMaxima {
+                expected,
+                actual: out.len(),
+            });
         }
+        let (cells_u, step) = ((self.width - 1) as usize, self.cell_maxima_step());
+        for (k, m) in out.iter_mut().enumerate() {
+            let raw = self.cell_raw((k % cells_u) as u32, (k / cells_u) as u32);
+            // At most 255: the step takes the field's highest sample so.
+            *m = raw[0].max(raw[1]).max(raw[2]).max(raw[3]).div_ceil(step) as u8;
+        }
+        Ok(())
+    }
+
+    /// The same field reading its cell maxima from `table`, written by
+    /// [`write_cell_maxima`](Self::write_cell_maxima) for these samples:
+    /// its walks then cull a cell above the ray by one byte, not its four
+    /// corners (where the byte is the maximum, exactly the cull's own
+    /// test; where it is a bound, a cell it culls the corners would cull:
+    /// the same pictures and work for a table made for this field; one
+    /// made for other samples loses hits). Fails if `table` is not
+    /// [`cell_count`](Self::cell_count) long.
+    pub fn with_cell_maxima(mut self, table: &'a [u8]) -> Result<Self, HeightFieldError> {
         if table.len() != self.cell_count() {
             return Err(HeightFieldError::CellMaxima {
                 expected: self.cell_count(),
                 actual: table.len(),
             });
-        }
-        let cells_u = (self.width - 1) as usize;
-        for (k, m) in table.iter_mut().enumerate() {
-            let raw = self.cell_raw((k % cells_u) as u32, (k / cells_u) as u32);
-            // A byte: the samples are.
-            *m = raw[0].max(raw[1]).max(raw[2]).max(raw[3]) as u8;
         }
         self.cell_maxima = Some(table);
         Ok(self)
@@ -2354,8 +2375,15 @@ impl WalkGrid for HeightField<'_> {
     }
 
     #[inline(always)]
-    fn cell_maxima(&self) -> Option<&[u8]> {
-        self.cell_maxima
+    fn cell_maxima(&self) -> Option<CellMaxima<'_>> {
+        self.cell_maxima.map(|bytes| {
+            let step = self.cell_maxima_step();
+            CellMaxima {
+                bytes,
+                mult: step * self.units_per_sample(),
+                exact: step == 1,
+            }
+        })
     }
 
     #[inline(always)]

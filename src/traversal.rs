@@ -341,6 +341,18 @@ pub enum Traversal {
     Hierarchy,
 }
 
+/// A field's cell maxima as the walk reads them: a byte a cell by grid
+/// rows, each at least the cell's highest sample in steps of `mult` height
+/// units ([`HeightField::write_cell_maxima`](crate::HeightField::write_cell_maxima)).
+#[derive(Clone, Copy)]
+pub(crate) struct CellMaxima<'t> {
+    pub(crate) bytes: &'t [u8],
+    /// Height units a step of the bytes.
+    pub(crate) mult: u32,
+    /// Each byte is its cell's highest sample (not only a bound).
+    pub(crate) exact: bool,
+}
+
 /// What the walk reads of a height field: the grid's size, its cells' raw
 /// samples and their scale, the sample range and water level it culls by,
 /// and the skip grid and mode it crosses the field by.
@@ -352,11 +364,11 @@ pub(crate) trait WalkGrid: SampleGrid {
     /// Raw samples of cell `(x, z)`'s corners:
     /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
     fn cell_raw(&self, x: u32, z: u32) -> [u32; 4];
-    /// Each cell's highest raw sample, one byte a cell by grid rows
+    /// The field's cell maxima
     /// ([`HeightField::with_cell_maxima`](crate::HeightField::with_cell_maxima)),
-    /// if the field has them.
+    /// if it has them.
     #[inline(always)]
-    fn cell_maxima(&self) -> Option<&[u8]> {
+    fn cell_maxima(&self) -> Option<CellMaxima<'_>> {
         None
     }
     /// Called on entering a walk function, before its loops.
@@ -503,7 +515,7 @@ impl<F: WalkGrid, T: Sample> WalkGrid for Typed<'_, F, T> {
     }
 
     #[inline(always)]
-    fn cell_maxima(&self) -> Option<&[u8]> {
+    fn cell_maxima(&self) -> Option<CellMaxima<'_>> {
         self.field.cell_maxima()
     }
 
@@ -707,7 +719,8 @@ fn max_settling<S: Real>(t: S, t_a: S, settled: &mut bool) -> S {
 /// (no table: 261 K cells) 181,846,502 -> 182,280,428, its `main` alone
 /// +316 K (register choices in the shading, not the walk). Only hard-float
 /// bare metal: elsewhere the test is code and work without a table.
-const CELL_MAXIMA: bool = cfg!(all(target_os = "none", target_abi = "eabihf"));
+const CELL_MAXIMA: bool = cfg!(any(all(target_os = "none", target_abi = "eabihf"), target_arch = "x86_64"));
+const CELL_MAXIMA_ALL: bool = cfg!(target_arch = "x86_64");
 
 /// The walks get a second build for rays moving along both axes (no
 /// parallel-axis tests in their loops), unless the `compact` feature asks
@@ -929,7 +942,7 @@ impl<S: Real> Walk<S> {
     fn visit<const MOVING: bool, const ABOVE: bool, const SETTLED: bool, F: WalkGrid>(
         &self,
         field: &F,
-        maxima: Option<&[u8]>,
+        maxima: Option<CellMaxima<'_>>,
         c: &mut Cursor<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -1045,14 +1058,15 @@ impl<S: Real> Walk<S> {
         if CELL_MAXIMA {
             if let Some(maxima) = maxima {
                 let k = j as usize * self.cells_u as usize + i as usize;
-                if let Some(&m) = maxima.get(k) {
-                    if y_low > S::from_raw_height(m as u32, mult) {
+                if let Some(&m) = maxima.bytes.get(k) {
+                    if y_low > S::from_raw_height(m as u32, maxima.mult) {
                         return step!(true);
                     }
-                    // Known not culled as above: the corners' maximum
-                    // only for the water test (lcd 38,035,000 ->
-                    // 37,683,171, base 9,929,655 -> 9,817,637).
-                    not_above = true;
+                    // Known not culled as above (when the byte is the
+                    // maximum): the corners' maximum only for the water
+                    // test (lcd 38,035,000 -> 37,683,171, base 9,929,655
+                    // -> 9,817,637).
+                    not_above = maxima.exact;
                 }
             }
         }
@@ -1413,7 +1427,7 @@ impl<S: Real> Walk<S> {
         // [`CELL_MAXIMA`], in the `LEVEL1` builds only (fields of one or
         // two levels, as the firmware's `base` and `lcd`): in the others
         // (`thesis`, no table) the test cost its frame 181.85 -> 185.35 M.
-        let maxima = if CELL_MAXIMA && LEVEL1 {
+        let maxima = if CELL_MAXIMA && !ABOVE {
             field.cell_maxima()
         } else {
             None
