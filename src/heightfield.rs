@@ -743,7 +743,7 @@ impl<'a> HeightField<'a> {
     /// The cells of this field: `(width − 1) · (depth − 1)`, the length of
     /// a table for [`with_cell_maxima`](Self::with_cell_maxima).
     pub fn cell_count(&self) -> usize {
-        (self.width - 1) as usize * (self.depth - 1) as usize
+        (self.width - 1).div_ceil(4) as usize * (self.depth - 1).div_ceil(4) as usize * 16
     }
 
     /// Raw samples a step of the cell maxima's bytes: 1 (the bytes are the
@@ -772,11 +772,15 @@ impl<'a> HeightField<'a> {
                 actual: out.len(),
             });
         }
-        let (cells_u, step) = ((self.width - 1) as usize, self.cell_maxima_step());
-        for (k, m) in out.iter_mut().enumerate() {
-            let raw = self.cell_raw((k % cells_u) as u32, (k / cells_u) as u32);
-            // At most 255: the step takes the field's highest sample so.
-            *m = raw[0].max(raw[1]).max(raw[2]).max(raw[3]).div_ceil(step) as u8;
+        let step = self.cell_maxima_step();
+        let tiles_u = (self.width - 1).div_ceil(4) as usize;
+        for z in 0..self.depth - 1 {
+            for x in 0..self.width - 1 {
+                let raw = self.cell_raw(x, z);
+                let k = ((((z >> 2) as usize * tiles_u) + (x >> 2) as usize) << 4)
+                    | (((z & 3) << 2) | (x & 3)) as usize;
+                out[k] = raw[0].max(raw[1]).max(raw[2]).max(raw[3]).div_ceil(step) as u8;
+            }
         }
         Ok(())
     }
@@ -2380,6 +2384,7 @@ impl WalkGrid for HeightField<'_> {
             let step = self.cell_maxima_step();
             CellMaxima {
                 bytes,
+                tiles_u: (self.width - 1).div_ceil(4) as usize,
                 mult: step * self.units_per_sample(),
                 exact: step == 1,
             }

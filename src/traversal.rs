@@ -347,6 +347,7 @@ pub enum Traversal {
 #[derive(Clone, Copy)]
 pub(crate) struct CellMaxima<'t> {
     pub(crate) bytes: &'t [u8],
+    pub(crate) tiles_u: usize,
     /// Height units a step of the bytes.
     pub(crate) mult: u32,
     /// Each byte is its cell's highest sample (not only a bound).
@@ -1057,7 +1058,8 @@ impl<S: Real> Walk<S> {
         let mut not_above = false;
         if CELL_MAXIMA {
             if let Some(maxima) = maxima {
-                let k = j as usize * self.cells_u as usize + i as usize;
+                let k = ((((j >> 2) as usize * maxima.tiles_u) + (i >> 2) as usize) << 4)
+                    | (((j & 3) << 2) | (i & 3)) as usize;
                 if let Some(&m) = maxima.bytes.get(k) {
                     if y_low > S::from_raw_height(m as u32, maxima.mult) {
                         return step!(true);
