@@ -304,8 +304,6 @@ fn section_b(runs: usize) {
 
 /// Section (c)'s name of the mode traced in packets.
 const PACKETS_MODE: &str = "pyramid fan-out 4, packets";
-/// [`PACKETS_MODE`] with the cells' maxima.
-const PACKETS_MAXIMA_MODE: &str = "fan-out 4, packets, maxima";
 
 fn section_c(runs: usize) {
     println!("\n(c) scaling: same view, same landscape, primary rays, f32");
@@ -323,83 +321,51 @@ fn section_c(runs: usize) {
         "hits",
         "blocks/ray",
         "cells/ray",
-        "accel KiB"
+        "skip KiB"
     );
     let rays = primary_rays();
     let transform = Transform::scale(DVec3::new(1.0, 0.3, 1.0)).unwrap();
     let sizes = [256u32, 1024, 4096];
     let data: Vec<Vec<u8>> = sizes.iter().map(|&n| fractal(n, 7)).collect();
-    // (name, skip layout and mode, with the cells' maxima).
     let layouts = |n: u32| {
         [
-            ("flat walk", None, false),
-            (
-                "blocks 8",
-                Some((SkipLayout::blocks(3), Traversal::Blocks)),
-                false,
-            ),
+            ("flat walk", None),
+            ("blocks 8", Some((SkipLayout::blocks(3), Traversal::Blocks))),
             (
                 "pyramid fan-out 8",
                 Some((SkipLayout::pyramid(n, n, 3), Traversal::Hierarchy)),
-                false,
             ),
             (
                 "pyramid fan-out 4",
                 Some((SkipLayout::pyramid(n, n, 2), Traversal::Hierarchy)),
-                false,
-            ),
-            (
-                "fan-out 4, cell maxima",
-                Some((SkipLayout::pyramid(n, n, 2), Traversal::Hierarchy)),
-                true,
             ),
             (
                 "max-mipmap (fan-out 2)",
                 Some((SkipLayout::pyramid(n, n, 1), Traversal::Hierarchy)),
-                false,
             ),
-            // The renderer's way: packets of `LANES` neighbours of a row
-            // (with the cells' maxima, as the renderer builds them).
+            // The renderer's way: packets of `LANES` neighbours of a row.
             (
                 PACKETS_MODE,
                 Some((SkipLayout::pyramid(n, n, 2), Traversal::Hierarchy)),
-                false,
-            ),
-            (
-                PACKETS_MAXIMA_MODE,
-                Some((SkipLayout::pyramid(n, n, 2), Traversal::Hierarchy)),
-                true,
             ),
         ]
     };
-    // Every (field, mode) with its skip buffer and table of cell maxima,
-    // built before any timing.
+    // Every (field, mode) with its skip buffer, built before any timing.
     let mut cases = Vec::new();
     for (k, &n) in sizes.iter().enumerate() {
         let field = HeightField::new(Samples::U8(&data[k]), n, n, HeightConvention::Gray8)
             .unwrap()
             .with_transform(transform);
-        for (m, (name, layout, maxima)) in layouts(n).into_iter().enumerate() {
+        for (m, (name, layout)) in layouts(n).into_iter().enumerate() {
             let buf = layout.map(|(l, _)| skip_buffer(&field, l));
-            let table = maxima.then(|| {
-                let mut t = vec![0u8; field.cell_count()];
-                field.write_cell_maxima(&mut t).unwrap();
-                t
-            });
-            cases.push((k, m, n, name, layout, field.clone(), buf, table));
+            cases.push((k, m, n, name, layout, field.clone(), buf));
         }
     }
     let fields: Vec<HeightField<'_>> = cases
         .iter()
-        .map(|(_, _, _, _, layout, field, buf, table)| {
-            let f = match (layout, buf) {
-                (Some((_, mode)), Some(b)) => with_grid(field, b, *mode),
-                _ => field.clone().with_traversal(Traversal::Flat),
-            };
-            match table {
-                Some(t) => f.with_cell_maxima(t).unwrap(),
-                None => f,
-            }
+        .map(|(_, _, _, _, layout, field, buf)| match (layout, buf) {
+            (Some((_, mode)), Some(b)) => with_grid(field, b, *mode),
+            _ => field.clone().with_traversal(Traversal::Flat),
         })
         .collect();
     let packets: Vec<RayPacket> = rays
@@ -423,10 +389,7 @@ fn section_c(runs: usize) {
         }
         hits
     };
-    let in_packets: Vec<bool> = cases
-        .iter()
-        .map(|c| c.3 == PACKETS_MODE || c.3 == PACKETS_MAXIMA_MODE)
-        .collect();
+    let in_packets: Vec<bool> = cases.iter().map(|c| c.3 == PACKETS_MODE).collect();
     let trace = |c: usize, f: &HeightField<'_>| {
         if in_packets[c] {
             count(f, true, &mut Counters::default())
@@ -455,7 +418,7 @@ fn section_c(runs: usize) {
             }));
         }
     }
-    for (c, (_, m, n, name, layout, _, buf, table)) in cases.iter().enumerate() {
+    for (c, (_, m, n, name, layout, _, buf)) in cases.iter().enumerate() {
         let base = *m; // the same mode at 256² (the first size)
         let mut ratios: Vec<f64> = (0..runs)
             .map(|r| samples[base][r] / samples[c][r])
@@ -478,8 +441,7 @@ fn section_c(runs: usize) {
             hits,
             counters.blocks as f64 / rays.len() as f64,
             counters.cells as f64 / rays.len() as f64,
-            (buf.as_ref().map_or(0, Vec::len) + table.as_ref().map_or(0, Vec::len)) as f64
-                / 1024.0
+            buf.as_ref().map_or(0.0, |b| b.len() as f64 / 1024.0)
         );
     }
 }

@@ -25,7 +25,7 @@ use crate::real::{Numeric, Real};
 use crate::skip::{SampleGrid, SkipError, SkipGrid};
 use crate::transform::{GridTransform, Transform};
 use crate::traversal::{
-    self, cell_index, corners_raw, CellMaxima, Counters, FootprintStart, GridHit, GridRay, OriginSlabs, Sample,
+    self, cell_index, corners_raw, Counters, FootprintStart, GridHit, GridRay, OriginSlabs, Sample,
     Traversal, WalkGrid,
 };
 
@@ -151,6 +151,9 @@ pub enum HeightFieldError {
         /// The table's length.
         actual: usize,
     },
+    /// Cell maxima were asked of 16-bit samples: the table holds a byte a
+    /// cell.
+    CellMaximaNeed8Bit,
 }
 
 impl core::fmt::Display for HeightFieldError {
@@ -193,6 +196,9 @@ impl core::fmt::Display for HeightFieldError {
                 f,
                 "a cell maxima table for this height field holds {expected} bytes, not {actual}"
             ),
+            HeightFieldError::CellMaximaNeed8Bit => {
+                f.write_str("cell maxima hold a byte a cell; this height field has 16-bit samples")
+            }
         }
     }
 }
@@ -253,8 +259,7 @@ pub struct HeightField<'a> {
     /// ([`with_world_normals`](Self::with_world_normals)); dropped when the
     /// transform changes.
     world_normals: Option<&'a [u8]>,
-    /// Each cell's highest raw sample, one byte a cell, in steps of
-    /// [`cell_maxima_step`](Self::cell_maxima_step)
+    /// Each cell's highest raw sample, one byte a cell
     /// ([`with_cell_maxima`](Self::with_cell_maxima)).
     cell_maxima: Option<&'a [u8]>,
     skip: Option<SkipGrid<'a>>,
@@ -743,62 +748,32 @@ impl<'a> HeightField<'a> {
     /// The cells of this field: `(width − 1) · (depth − 1)`, the length of
     /// a table for [`with_cell_maxima`](Self::with_cell_maxima).
     pub fn cell_count(&self) -> usize {
-        (self.width - 1).div_ceil(4) as usize * (self.depth - 1).div_ceil(4) as usize * 16
+        (self.width - 1) as usize * (self.depth - 1) as usize
     }
 
-    /// Raw samples a step of the cell maxima's bytes: 1 (the bytes are the
-    /// maxima) unless the highest sample is above 255 (16-bit samples),
-    /// then the fewest that take it within a byte, each cell's maximum
-    /// rounded up to a step (a bound, not the maximum: the walks then test
-    /// the corners of the cells it does not cull).
-    fn cell_maxima_step(&self) -> u32 {
-        (self.max_units / self.units_per_sample())
-            .div_ceil(255)
-            .max(1)
-    }
-
-    /// Writes this field's cell maxima into `out`
-    /// ([`cell_count`](Self::cell_count) long), grid row by grid row from
-    /// `z = 0`: a byte a cell, its highest raw sample (samples above 255,
-    /// 16-bit ones, are counted in steps of the fewest that keep the
-    /// field's highest within a byte, each cell's rounded up). A program
-    /// computes them once per field, or keeps them with the samples, and
-    /// hands them to [`with_cell_maxima`](Self::with_cell_maxima).
-    pub fn write_cell_maxima(&self, out: &mut [u8]) -> Result<(), HeightFieldError> {
-        let expected = self.cell_count();
-        if out.len() != expected {
-            return Err(HeightFieldError::CellMaxima {
-                expected,
-                actual: out.len(),
-            });
-        }
-        let step = self.cell_maxima_step();
-        let tiles_u = (self.width - 1).div_ceil(4) as usize;
-        for z in 0..self.depth - 1 {
-            for x in 0..self.width - 1 {
-                let raw = self.cell_raw(x, z);
-                let k = ((((z >> 2) as usize * tiles_u) + (x >> 2) as usize) << 4)
-                    | (((z & 3) << 2) | (x & 3)) as usize;
-                out[k] = raw[0].max(raw[1]).max(raw[2]).max(raw[3]).div_ceil(step) as u8;
-            }
-        }
-        Ok(())
-    }
-
-    /// The same field reading its cell maxima from `table`, written by
-    /// [`write_cell_maxima`](Self::write_cell_maxima) for these samples:
-    /// its walks then cull a cell above the ray by one byte, not its four
-    /// corners (where the byte is the maximum, exactly the cull's own
-    /// test; where it is a bound, a cell it culls the corners would cull:
-    /// the same pictures and work for a table made for this field; one
-    /// made for other samples loses hits). Fails if `table` is not
+    /// The same field with each cell's highest raw sample written into
+    /// `table` (one byte a cell, grid row by grid row from `z = 0`) and
+    /// read from there by the walks of the hard-float Cortex-M
+    /// (`traversal::CELL_MAXIMA`), which then cull a cell
+    /// above the ray with one byte, not its four corners (exactly the
+    /// cull's own test: the same pictures and work). An error (and `table`
+    /// untouched) unless the samples are bytes and `table` is
     /// [`cell_count`](Self::cell_count) long.
-    pub fn with_cell_maxima(mut self, table: &'a [u8]) -> Result<Self, HeightFieldError> {
+    pub fn with_cell_maxima(mut self, table: &'a mut [u8]) -> Result<Self, HeightFieldError> {
+        if !matches!(self.samples, Samples::U8(_)) {
+            return Err(HeightFieldError::CellMaximaNeed8Bit);
+        }
         if table.len() != self.cell_count() {
             return Err(HeightFieldError::CellMaxima {
                 expected: self.cell_count(),
                 actual: table.len(),
             });
+        }
+        let cells_u = (self.width - 1) as usize;
+        for (k, m) in table.iter_mut().enumerate() {
+            let raw = self.cell_raw((k % cells_u) as u32, (k / cells_u) as u32);
+            // A byte: the samples are.
+            *m = raw[0].max(raw[1]).max(raw[2]).max(raw[3]) as u8;
         }
         self.cell_maxima = Some(table);
         Ok(self)
@@ -2379,16 +2354,8 @@ impl WalkGrid for HeightField<'_> {
     }
 
     #[inline(always)]
-    fn cell_maxima(&self) -> Option<CellMaxima<'_>> {
-        self.cell_maxima.map(|bytes| {
-            let step = self.cell_maxima_step();
-            CellMaxima {
-                bytes,
-                tiles_u: (self.width - 1).div_ceil(4) as usize,
-                mult: step * self.units_per_sample(),
-                exact: step == 1,
-            }
-        })
+    fn cell_maxima(&self) -> Option<&[u8]> {
+        self.cell_maxima
     }
 
     #[inline(always)]

@@ -341,19 +341,6 @@ pub enum Traversal {
     Hierarchy,
 }
 
-/// A field's cell maxima as the walk reads them: a byte a cell by grid
-/// rows, each at least the cell's highest sample in steps of `mult` height
-/// units ([`HeightField::write_cell_maxima`](crate::HeightField::write_cell_maxima)).
-#[derive(Clone, Copy)]
-pub(crate) struct CellMaxima<'t> {
-    pub(crate) bytes: &'t [u8],
-    pub(crate) tiles_u: usize,
-    /// Height units a step of the bytes.
-    pub(crate) mult: u32,
-    /// Each byte is its cell's highest sample (not only a bound).
-    pub(crate) exact: bool,
-}
-
 /// What the walk reads of a height field: the grid's size, its cells' raw
 /// samples and their scale, the sample range and water level it culls by,
 /// and the skip grid and mode it crosses the field by.
@@ -365,11 +352,11 @@ pub(crate) trait WalkGrid: SampleGrid {
     /// Raw samples of cell `(x, z)`'s corners:
     /// `[(x, z), (x + 1, z), (x, z + 1), (x + 1, z + 1)]`.
     fn cell_raw(&self, x: u32, z: u32) -> [u32; 4];
-    /// The field's cell maxima
+    /// Each cell's highest raw sample, one byte a cell by grid rows
     /// ([`HeightField::with_cell_maxima`](crate::HeightField::with_cell_maxima)),
-    /// if it has them.
+    /// if the field has them.
     #[inline(always)]
-    fn cell_maxima(&self) -> Option<CellMaxima<'_>> {
+    fn cell_maxima(&self) -> Option<&[u8]> {
         None
     }
     /// Called on entering a walk function, before its loops.
@@ -516,7 +503,7 @@ impl<F: WalkGrid, T: Sample> WalkGrid for Typed<'_, F, T> {
     }
 
     #[inline(always)]
-    fn cell_maxima(&self) -> Option<CellMaxima<'_>> {
+    fn cell_maxima(&self) -> Option<&[u8]> {
         self.field.cell_maxima()
     }
 
@@ -720,8 +707,22 @@ fn max_settling<S: Real>(t: S, t_a: S, settled: &mut bool) -> S {
 /// (no table: 261 K cells) 181,846,502 -> 182,280,428, its `main` alone
 /// +316 K (register choices in the shading, not the walk). Only hard-float
 /// bare metal: elsewhere the test is code and work without a table.
-const CELL_MAXIMA: bool = cfg!(any(all(target_os = "none", target_abi = "eabihf"), target_arch = "x86_64"));
-const CELL_MAXIMA_ALL: bool = cfg!(target_arch = "x86_64");
+/// On the host (x86-64), with the `render` command building a table for
+/// each field (1 byte a cell: acceleration 0.133 -> 1.13 bytes a sample),
+/// it does not pay (session 21, reverted): full render, instructions a
+/// pixel, bench512 2,027.9, rmnp_gradient 2,114.4, level_rmnp 1,613.1
+/// -> with the table in the walks other than the shadow ones 2,018.6,
+/// 2,098.3, 1,623.5 (in all walks 2,017.4, 2,105.2, 1,636.8, as in the
+/// `LEVEL1` ones only; in the shadow ones only 2,042.0, 2,134.6,
+/// 1,625.0); and time, `bench -- 3 c`,
+/// fan-out-4 packets, ns a ray: 256² 206.5 -> 213.1, 4096² 462.4 ->
+/// 665.0 (scaling 45% -> 32%): at 4096² the table's 16 MB joins the
+/// samples' 16 MB and the pyramid's 2 MB past the 32 MB L3
+/// (`--cache-sim=yes --LL=33554432,16,64`, LL misses a primary ray 0.023
+/// -> 0.69). Tiles of 4 × 4 cells instead of rows: 1 MB-LL misses 2.09 ->
+/// 2.19 (rows 2.90), instructions a primary ray +1.1%, 4096² 463.1 ->
+/// 693.9 ns.
+const CELL_MAXIMA: bool = cfg!(all(target_os = "none", target_abi = "eabihf"));
 
 /// The walks get a second build for rays moving along both axes (no
 /// parallel-axis tests in their loops), unless the `compact` feature asks
@@ -943,7 +944,7 @@ impl<S: Real> Walk<S> {
     fn visit<const MOVING: bool, const ABOVE: bool, const SETTLED: bool, F: WalkGrid>(
         &self,
         field: &F,
-        maxima: Option<CellMaxima<'_>>,
+        maxima: Option<&[u8]>,
         c: &mut Cursor<S>,
         stop: &mut Option<Resume<S>>,
         counters: &mut Counters,
@@ -1058,17 +1059,15 @@ impl<S: Real> Walk<S> {
         let mut not_above = false;
         if CELL_MAXIMA {
             if let Some(maxima) = maxima {
-                let k = ((((j >> 2) as usize * maxima.tiles_u) + (i >> 2) as usize) << 4)
-                    | (((j & 3) << 2) | (i & 3)) as usize;
-                if let Some(&m) = maxima.bytes.get(k) {
-                    if y_low > S::from_raw_height(m as u32, maxima.mult) {
+                let k = j as usize * self.cells_u as usize + i as usize;
+                if let Some(&m) = maxima.get(k) {
+                    if y_low > S::from_raw_height(m as u32, mult) {
                         return step!(true);
                     }
-                    // Known not culled as above (when the byte is the
-                    // maximum): the corners' maximum only for the water
-                    // test (lcd 38,035,000 -> 37,683,171, base 9,929,655
-                    // -> 9,817,637).
-                    not_above = maxima.exact;
+                    // Known not culled as above: the corners' maximum
+                    // only for the water test (lcd 38,035,000 ->
+                    // 37,683,171, base 9,929,655 -> 9,817,637).
+                    not_above = true;
                 }
             }
         }
@@ -1429,7 +1428,7 @@ impl<S: Real> Walk<S> {
         // [`CELL_MAXIMA`], in the `LEVEL1` builds only (fields of one or
         // two levels, as the firmware's `base` and `lcd`): in the others
         // (`thesis`, no table) the test cost its frame 181.85 -> 185.35 M.
-        let maxima = if CELL_MAXIMA && !ABOVE {
+        let maxima = if CELL_MAXIMA && LEVEL1 {
             field.cell_maxima()
         } else {
             None

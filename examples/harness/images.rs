@@ -163,8 +163,6 @@ pub struct LoadedField {
     palette: Option<Box<Palette>>,
     /// A skip pyramid over the samples (see [`Self::build_skip`]).
     skip: Option<Vec<u8>>,
-    /// The cells' maxima (see [`Self::build_skip`]).
-    cell_maxima: Option<Vec<u8>>,
 }
 
 impl LoadedField {
@@ -208,7 +206,6 @@ impl LoadedField {
             convention,
             palette: palette.map(Box::new),
             skip: None,
-            cell_maxima: None,
         })
     }
 
@@ -307,26 +304,8 @@ impl LoadedField {
         )?;
         let mut memory = alloc::<u8>(bytes)?;
         hfray::SkipGrid::build(&field, layout, &mut memory).map_err(|e| e.to_string())?;
-        // The cells' maxima (`HeightField::write_cell_maxima`, a byte a
-        // cell), with which the walks cull a cell above the ray by one
-        // byte; left out when the budget has no room for them (the same
-        // pictures without).
-        let cells = field.cell_count();
-        let what = format!("the {}x{} field's cell maxima", self.width, self.depth);
-        let mut maxima = None;
-        if budget.charge(cells as u64, &what).is_ok() {
-            let mut table = alloc::<u8>(cells)?;
-            field.write_cell_maxima(&mut table).map_err(|e| e.to_string())?;
-            maxima = Some(table);
-        }
         self.skip = Some(memory);
-        self.cell_maxima = maxima;
         Ok(())
-    }
-
-    /// The cells' maxima, if [`Self::build_skip`] built them.
-    pub fn cell_maxima(&self) -> Option<&[u8]> {
-        self.cell_maxima.as_deref()
     }
 
     /// The skip pyramid's bytes, if [`Self::build_skip`] ran.
@@ -776,7 +755,6 @@ fn load_gif<R: Read>(
         },
         palette: (!pot).then(|| Box::new(pad_palette(palette.as_deref().unwrap_or(&[])))),
         skip: None,
-        cell_maxima: None,
     })
 }
 
@@ -969,7 +947,6 @@ fn load_png<R: BufRead + Seek>(
         convention,
         palette,
         skip: None,
-        cell_maxima: None,
     })
 }
 
@@ -1161,7 +1138,6 @@ fn load_pnm<R: BufRead>(reader: R, budget: &mut DecodeBudget) -> Result<LoadedFi
         convention,
         palette: None,
         skip: None,
-        cell_maxima: None,
     })
 }
 
@@ -1370,7 +1346,6 @@ fn load_tga<R: BufRead>(mut reader: R, budget: &mut DecodeBudget) -> Result<Load
         convention,
         palette,
         skip: None,
-        cell_maxima: None,
     })
 }
 

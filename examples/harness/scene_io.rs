@@ -272,9 +272,6 @@ pub fn build_fields_located<'d>(
         if let Some(bytes) = data.skip_bytes() {
             field = field.with_skip(bytes).map_err(|e| at(&e))?;
         }
-        if let Some(table) = data.cell_maxima() {
-            field = field.with_cell_maxima(table).map_err(|e| at(&e))?;
-        }
         if hf.palette_colors {
             match data.palette() {
                 Some(palette) => field = field.with_palette(palette).map_err(|e| at(&e))?,

@@ -279,9 +279,8 @@ fn main() -> ! {
             // SAFETY: `main` runs once and never returns, and this is the
             // table's only reference.
             let table = unsafe { &mut *core::ptr::addr_of_mut!(CELL_MAXIMA) };
-            let table = &mut table[..f.cell_count()];
-            f.write_cell_maxima(table)?;
-            Ok(f.with_cell_maxima(table)?)
+            let cells = f.cell_count();
+            Ok(f.with_cell_maxima(&mut table[..cells])?)
         }
     });
     let fields = match field {
