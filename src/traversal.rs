@@ -137,7 +137,7 @@ pub(crate) const PACKETS: bool = cfg!(any(
 ));
 
 /// The levels of `skip` that [`Walk::walk_from`] walks over a field in
-/// mode `traversal`, before its cap ([`line_top`]): 0 (the walk is flat)
+/// mode `traversal`, before its cap (`Walk::max_level`): 0 (the walk is flat)
 /// without a grid or in [`Traversal::Flat`], 1 in [`Traversal::Blocks`],
 /// the grid's levels in [`Traversal::Hierarchy`]. A field keeps it
 /// ([`WalkGrid::walk_top`]), made again whenever its mode or grid change.
@@ -161,26 +161,6 @@ pub(crate) fn walk_top(traversal: Traversal, skip: Option<&SkipGrid<'_>>) -> u8 
                 s.levels()
             }
         }
-    }
-}
-
-/// The coarsest level a walk started past a packet's shared start
-/// ([`Walk::line_start`]) uses, of a walk over `top` levels: 1, near the
-/// surface, where climbing back to coarser blocks rarely culls them
-/// (bench512, three levels: 36 instructions a primary ray fewer than the
-/// top; a level view, whose lanes that start so are mostly rays past the
-/// horizon, 0.5% more), but 2 over four levels or more, whose walks past
-/// the line cross many more level-1 blocks (the scaling view of
-/// `examples/bench.rs` (c), callgrind, instructions a primary ray in
-/// packets: a 4096² field's four levels, level 1 only 1,722.1, 2 1,541.1,
-/// 3 1,557.0, the top 1,575.6; block passes 16.1 -> 8.7 a ray; a 1024²
-/// field's three levels, level 1 1,167.9, 2 1,253.8).
-#[inline(always)]
-const fn line_top(top: u8) -> u8 {
-    if top >= 4 {
-        2
-    } else {
-        1
     }
 }
 
@@ -759,8 +739,16 @@ pub(crate) struct Walk<S> {
     /// ([`Walk::line_start`]).
     start_level: u32,
     /// The coarsest level the hierarchical walk uses: the pyramid's top,
-    /// or, marked 1, the level [`line_top`] allows after a packet's shared
-    /// start ([`Walk::line_start`]).
+    /// or 1 after a packet's shared start ([`Walk::line_start`]): near the
+    /// surface, climbing back to coarser blocks rarely culls them
+    /// (bench512, three levels: 36 instructions a primary ray fewer than
+    /// the top; a level view, whose lanes that start so are mostly rays
+    /// past the horizon, 0.5% more). Four levels or more took level 2
+    /// while the march stopped at a footprint 4 blocks wide (below, at
+    /// `packet::MAX_ACROSS`); since it takes 16, level 1 pays there too
+    /// (`examples/bench.rs` (c)'s view over a 4096² field, callgrind,
+    /// instructions a primary ray in packets: 1,440.6 with level 2 ->
+    /// 1,375.3).
     max_level: u8,
 }
 
@@ -2962,8 +2950,8 @@ impl<S: Real> Walk<S> {
     /// line, or at a vertex when the row before it is left at `t_l` too.
     /// The walk may start at any level and use any levels, and the packet
     /// culled the coarser blocks before the line (its last step was of
-    /// level 1): it starts at level 1, and climbs no higher than
-    /// [`line_top`] allows.
+    /// level 1): it starts at level 1, and climbs no higher
+    /// (`Walk::max_level`).
     #[inline(always)]
     pub(crate) fn line_start(
         &mut self,
@@ -3003,7 +2991,7 @@ impl<S: Real> Walk<S> {
     /// its column's lines, and `t_line`, the parameter of `line`, is past
     /// `t_near` and before `t_far`): the cell beyond the line, in the row
     /// [`first_exit_past`] finds, as the flat walk enters it. The walk then
-    /// starts at level 1 ([`line_top`]). Both axes move.
+    /// starts at level 1 (`Walk::max_level`). Both axes move.
     #[inline(always)]
     pub(crate) fn line_start_at(
         &mut self,
@@ -3031,7 +3019,7 @@ impl<S: Real> Walk<S> {
     /// The [`line_start_at`](Self::line_start_at) cell once its row is
     /// known: in the column (row, unless `along_u`) beyond `line`, and row
     /// `row`, entered at `t_line` across the line, or at a vertex
-    /// (`corner`). The walk then starts at level 1 ([`line_top`]).
+    /// (`corner`). The walk then starts at level 1 (`Walk::max_level`).
     #[inline(always)]
     pub(crate) fn line_cell(
         &mut self,
@@ -3176,8 +3164,8 @@ impl<S: Real> Walk<S> {
         hit
     }
 
-    /// The walk started at level 1 and climbing no higher than
-    /// [`line_top`] allows, as from a [`line_cell`](Self::line_cell).
+    /// The walk started at level 1 and climbing no higher, as from a
+    /// [`line_cell`](Self::line_cell).
     #[inline(always)]
     pub(crate) fn start_past_line(&mut self) {
         self.start_level = 1;
@@ -3209,17 +3197,7 @@ impl<S: Real> Walk<S> {
         // base frame 10.727 -> 10.685 M).
         let top = field.walk_top();
         let skip = match field.skip() {
-            Some(s) if top != 0 => {
-                // (Only packets start past a line: the firmware, without
-                // them, keeps the plain cap, 14 K instructions a Cortex-M4F
-                // base frame fewer.)
-                let cap = if PACKETS {
-                    self.max_level.max(line_top(top))
-                } else {
-                    self.max_level
-                };
-                Some((s, top.min(cap)))
-            }
+            Some(s) if top != 0 => Some((s, top.min(self.max_level))),
             _ => None,
         };
         let (o, au, av) = (self.o, self.au, self.av);
@@ -3321,7 +3299,7 @@ impl Walk<f32> {
         let top = field.walk_top();
         let skip = match field.skip() {
             // `walk_from`'s levels (those of the walks from entries; the
-            // lanes from lines take `line_top` of them).
+            // lanes from lines take level 1).
             Some(s) if TWO_BUILDS && top != 0 => Some((s, top)),
             _ => None,
         };
@@ -3369,10 +3347,8 @@ impl Walk<f32> {
                 build!(-1, -1, false);
             };
         }
-        if lines != 0 && line_top(top) == 1 {
+        if lines != 0 {
             builds!(true, lines, from_line, 1);
-        } else if lines != 0 {
-            builds!(false, lines, from_line, line_top(top));
         }
         if entries != 0 && top == 1 {
             builds!(true, entries, from_entry, 1);
