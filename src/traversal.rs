@@ -1396,6 +1396,15 @@ impl<S: Real> Walk<S> {
         } else {
             self.start_level.min(top)
         };
+        // Climbing back (`changed_level`) stops a level below the top over
+        // four levels or more: the walk starts at the top, but a top-level
+        // block left is seldom culled so near the surface. Callgrind,
+        // `examples/bench.rs` (c)'s view at 320 × 200, instructions a
+        // primary ray one by one (`intersect`), 4096²: 2,058.4 -> 2,011.1;
+        // in packets 1,375.3 -> 1,379.6. Over three levels it pays too
+        // (512² 1,758.6 -> 1,705.9, 1024² 1,834.1 -> 1,787.0; packets 512²
+        // 1,037.5 -> 1,036.0) but changes bench512's block counts.
+        let climb = if top >= 4 { top - 1 } else { top };
         // `ABOVE`: the walk climbed into the block it is in, having found
         // it culled by the block pass's own test (see the climbs). Not on
         // bare metal, where the flag's register costs more than the tests it
@@ -1493,7 +1502,7 @@ impl<S: Real> Walk<S> {
                     level = if LEVEL1 {
                         1
                     } else {
-                        changed_level(moved, recip, top)
+                        changed_level(moved, recip, climb)
                     };
                 }
             }
@@ -1695,7 +1704,7 @@ impl<S: Real> Walk<S> {
                     continue;
                 }
                 // At least `level`: the step left the block of `level`.
-                let next = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
+                let next = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, climb).max(level);
                 if next != level {
                     level = next;
                     continue 'walk;
