@@ -1404,7 +1404,10 @@ impl<S: Real> Walk<S> {
         // in packets 1,375.3 -> 1,379.6. Over three levels it pays too
         // (512² 1,758.6 -> 1,705.9, 1024² 1,834.1 -> 1,787.0; packets 512²
         // 1,037.5 -> 1,036.0) but changes bench512's block counts.
-        let climb = if top >= 4 { top - 1 } else { top };
+        // Not on in-order targets, whose fields are small (the fixed-point
+        // walks' frames took M0 base 55,871,559 -> 55,928,416, 486SX
+        // 43,854,464 -> 44,228,302 with it).
+        let climb = if !IN_ORDER && top >= 4 { top - 1 } else { top };
         // `ABOVE`: the walk climbed into the block it is in, having found
         // it culled by the block pass's own test (see the climbs). Not on
         // bare metal, where the flag's register costs more than the tests it
@@ -1704,7 +1707,8 @@ impl<S: Real> Walk<S> {
                     continue;
                 }
                 // At least `level`: the step left the block of `level`.
-                let next = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, climb).max(level);
+                let next = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, climb);
+                let next = if climb < top { next.max(level) } else { next };
                 if next != level {
                     level = next;
                     continue 'walk;
