@@ -80,7 +80,7 @@ use crate::traversal::{
 pub const LANES: usize = 8;
 
 /// Whether renders trace their primary rays in packets (defined with the
-/// walks, which cap the levels of lanes started past a line only then).
+/// walks).
 pub(crate) use crate::traversal::PACKETS;
 
 /// One `f32` per lane.
@@ -557,7 +557,7 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
     // (`walk_lanes`, as above), their stops recorded as `walk_from` records
     // them, their line starts found lane-wise (`LineStarts`, the same as
     // `line_start`'s): those from a line cell, and the resumed lanes whose
-    // line start (unused) kept the walk to `line_top`'s levels, in the
+    // line start (unused) kept the walk to level 1, in the
     // builds for those; the others in those for the field's levels. The rest walk
     // on their own, as before. (Level_rmnp, coherence on: 1,085.0 -> 998.6
     // instructions a primary ray; lane by lane with each lane's line start
@@ -637,7 +637,7 @@ pub(crate) fn nearest_packet<F: WalkGrid>(
 /// The lanes of a packet with column states, for [`Walk::walk_lanes`]:
 /// those not `resumed` from a line cell where [`LineStarts`] has one (as
 /// [`FromLine`]), the others from their column starts, kept to
-/// `line_top`'s levels where their line start would have kept them (a resumed lane whose line
+/// level 1 where their line start would have kept them (a resumed lane whose line
 /// start is a line cell, as [`Walk::line_start`] leaves its walk).
 struct FromColumn<'a> {
     line: FromLine<'a>,
@@ -989,8 +989,15 @@ struct SharedStart {
 }
 
 /// The most blocks of one level a step of [`shared_start`] looks up
-/// across the packet's footprint; a wider footprint is not culled.
-const MAX_ACROSS: u32 = 4;
+/// across the packet's footprint; a wider footprint is not culled. At
+/// large fields a quad's footprint spans many level-1 blocks (the view of
+/// `examples/bench.rs` (c): about 15 cells a pixel at 4096²), and a limit
+/// of 4 ended the march there, leaving the lanes long walks. Callgrind,
+/// instructions a primary ray in packets, that view at 320 × 200, limits
+/// 4 / 8 / 16 / 32: 4096² 1,530.4 / 1,446.2 / 1,440.6 / 1,453.3, 1024²
+/// 1,135.4 / 1,097.4 / 1,097.4 / 1,097.4; 256² and 512² unchanged (976.5,
+/// 1,037.6).
+const MAX_ACROSS: u32 = 16;
 
 /// A grid line, along `u` or `v`, before which the flat walk of each of
 /// the four lanes `quad..quad + 4` that are `walked` culls every cell:

@@ -137,7 +137,7 @@ pub(crate) const PACKETS: bool = cfg!(any(
 ));
 
 /// The levels of `skip` that [`Walk::walk_from`] walks over a field in
-/// mode `traversal`, before its cap ([`line_top`]): 0 (the walk is flat)
+/// mode `traversal`, before its cap (`Walk::max_level`): 0 (the walk is flat)
 /// without a grid or in [`Traversal::Flat`], 1 in [`Traversal::Blocks`],
 /// the grid's levels in [`Traversal::Hierarchy`]. A field keeps it
 /// ([`WalkGrid::walk_top`]), made again whenever its mode or grid change.
@@ -161,26 +161,6 @@ pub(crate) fn walk_top(traversal: Traversal, skip: Option<&SkipGrid<'_>>) -> u8 
                 s.levels()
             }
         }
-    }
-}
-
-/// The coarsest level a walk started past a packet's shared start
-/// ([`Walk::line_start`]) uses, of a walk over `top` levels: 1, near the
-/// surface, where climbing back to coarser blocks rarely culls them
-/// (bench512, three levels: 36 instructions a primary ray fewer than the
-/// top; a level view, whose lanes that start so are mostly rays past the
-/// horizon, 0.5% more), but 2 over four levels or more, whose walks past
-/// the line cross many more level-1 blocks (the scaling view of
-/// `examples/bench.rs` (c), callgrind, instructions a primary ray in
-/// packets: a 4096² field's four levels, level 1 only 1,722.1, 2 1,541.1,
-/// 3 1,557.0, the top 1,575.6; block passes 16.1 -> 8.7 a ray; a 1024²
-/// field's three levels, level 1 1,167.9, 2 1,253.8).
-#[inline(always)]
-const fn line_top(top: u8) -> u8 {
-    if top >= 4 {
-        2
-    } else {
-        1
     }
 }
 
@@ -713,6 +693,21 @@ fn max_settling<S: Real>(t: S, t_a: S, settled: &mut bool) -> S {
 /// fixed-point frames base 43,854,464 -> 43,356,751, lcd 159,734,625 ->
 /// 157,877,323. Not elsewhere: there the test is code and work without a
 /// table.
+/// On the host (x86-64), with the `render` command building a table for
+/// each field (1 byte a cell: acceleration 0.133 -> 1.13 bytes a sample),
+/// it does not pay (session 21, reverted): full render, instructions a
+/// pixel, bench512 2,027.9, rmnp_gradient 2,114.4, level_rmnp 1,613.1
+/// -> with the table in the walks other than the shadow ones 2,018.6,
+/// 2,098.3, 1,623.5 (in all walks 2,017.4, 2,105.2, 1,636.8, as in the
+/// `LEVEL1` ones only; in the shadow ones only 2,042.0, 2,134.6,
+/// 1,625.0); and time, `bench -- 3 c`,
+/// fan-out-4 packets, ns a ray: 256² 206.5 -> 213.1, 4096² 462.4 ->
+/// 665.0 (scaling 45% -> 32%): at 4096² the table's 16 MB joins the
+/// samples' 16 MB and the pyramid's 2 MB past the 32 MB L3
+/// (`--cache-sim=yes --LL=33554432,16,64`, LL misses a primary ray 0.023
+/// -> 0.69). Tiles of 4 × 4 cells instead of rows: 1 MB-LL misses 2.09 ->
+/// 2.19 (rows 2.90), instructions a primary ray +1.1%, 4096² 463.1 ->
+/// 693.9 ns.
 const CELL_MAXIMA: bool = cfg!(any(all(target_os = "none", target_abi = "eabihf"), x87));
 
 /// The walks get a second build for rays moving along both axes (no
@@ -750,8 +745,16 @@ pub(crate) struct Walk<S> {
     /// ([`Walk::line_start`]).
     start_level: u32,
     /// The coarsest level the hierarchical walk uses: the pyramid's top,
-    /// or, marked 1, the level [`line_top`] allows after a packet's shared
-    /// start ([`Walk::line_start`]).
+    /// or 1 after a packet's shared start ([`Walk::line_start`]): near the
+    /// surface, climbing back to coarser blocks rarely culls them
+    /// (bench512, three levels: 36 instructions a primary ray fewer than
+    /// the top; a level view, whose lanes that start so are mostly rays
+    /// past the horizon, 0.5% more). Four levels or more took level 2
+    /// while the march stopped at a footprint 4 blocks wide (below, at
+    /// `packet::MAX_ACROSS`); since it takes 16, level 1 pays there too
+    /// (`examples/bench.rs` (c)'s view over a 4096² field, callgrind,
+    /// instructions a primary ray in packets: 1,440.6 with level 2 ->
+    /// 1,375.3).
     max_level: u8,
 }
 
@@ -1399,6 +1402,18 @@ impl<S: Real> Walk<S> {
         } else {
             self.start_level.min(top)
         };
+        // Climbing back (`changed_level`) stops a level below the top over
+        // four levels or more: the walk starts at the top, but a top-level
+        // block left is seldom culled so near the surface. Callgrind,
+        // `examples/bench.rs` (c)'s view at 320 × 200, instructions a
+        // primary ray one by one (`intersect`), 4096²: 2,058.4 -> 2,011.1;
+        // in packets 1,375.3 -> 1,379.6. Over three levels it pays too
+        // (512² 1,758.6 -> 1,705.9, 1024² 1,834.1 -> 1,787.0; packets 512²
+        // 1,037.5 -> 1,036.0) but changes bench512's block counts.
+        // Not on in-order targets, whose fields are small (the fixed-point
+        // walks' frames took M0 base 55,871,559 -> 55,928,416, 486SX
+        // 43,854,464 -> 44,228,302 with it).
+        let climb = if !IN_ORDER && top >= 4 { top - 1 } else { top };
         // `ABOVE`: the walk climbed into the block it is in, having found
         // it culled by the block pass's own test (see the climbs). Not on
         // bare metal, where the flag's register costs more than the tests it
@@ -1509,7 +1524,7 @@ impl<S: Real> Walk<S> {
                     level = if LEVEL1 || (cfg!(x87) && !S::ALL_FINITE) {
                         1
                     } else {
-                        changed_level(moved, recip, top)
+                        changed_level(moved, recip, climb)
                     };
                 }
             }
@@ -1711,7 +1726,8 @@ impl<S: Real> Walk<S> {
                     continue;
                 }
                 // At least `level`: the step left the block of `level`.
-                let next = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, top);
+                let next = changed_level(((pi ^ c.i) | (pj ^ c.j)) as u32, recip, climb);
+                let next = if climb < top { next.max(level) } else { next };
                 if next != level {
                     level = next;
                     continue 'walk;
@@ -2984,8 +3000,8 @@ impl<S: Real> Walk<S> {
     /// line, or at a vertex when the row before it is left at `t_l` too.
     /// The walk may start at any level and use any levels, and the packet
     /// culled the coarser blocks before the line (its last step was of
-    /// level 1): it starts at level 1, and climbs no higher than
-    /// [`line_top`] allows.
+    /// level 1): it starts at level 1, and climbs no higher
+    /// (`Walk::max_level`).
     #[inline(always)]
     pub(crate) fn line_start(
         &mut self,
@@ -3025,7 +3041,7 @@ impl<S: Real> Walk<S> {
     /// its column's lines, and `t_line`, the parameter of `line`, is past
     /// `t_near` and before `t_far`): the cell beyond the line, in the row
     /// [`first_exit_past`] finds, as the flat walk enters it. The walk then
-    /// starts at level 1 ([`line_top`]). Both axes move.
+    /// starts at level 1 (`Walk::max_level`). Both axes move.
     #[inline(always)]
     pub(crate) fn line_start_at(
         &mut self,
@@ -3053,7 +3069,7 @@ impl<S: Real> Walk<S> {
     /// The [`line_start_at`](Self::line_start_at) cell once its row is
     /// known: in the column (row, unless `along_u`) beyond `line`, and row
     /// `row`, entered at `t_line` across the line, or at a vertex
-    /// (`corner`). The walk then starts at level 1 ([`line_top`]).
+    /// (`corner`). The walk then starts at level 1 (`Walk::max_level`).
     #[inline(always)]
     pub(crate) fn line_cell(
         &mut self,
@@ -3198,8 +3214,8 @@ impl<S: Real> Walk<S> {
         hit
     }
 
-    /// The walk started at level 1 and climbing no higher than
-    /// [`line_top`] allows, as from a [`line_cell`](Self::line_cell).
+    /// The walk started at level 1 and climbing no higher, as from a
+    /// [`line_cell`](Self::line_cell).
     #[inline(always)]
     pub(crate) fn start_past_line(&mut self) {
         self.start_level = 1;
@@ -3231,17 +3247,7 @@ impl<S: Real> Walk<S> {
         // base frame 10.727 -> 10.685 M).
         let top = field.walk_top();
         let skip = match field.skip() {
-            Some(s) if top != 0 => {
-                // (Only packets start past a line: the firmware, without
-                // them, keeps the plain cap, 14 K instructions a Cortex-M4F
-                // base frame fewer.)
-                let cap = if PACKETS {
-                    self.max_level.max(line_top(top))
-                } else {
-                    self.max_level
-                };
-                Some((s, top.min(cap)))
-            }
+            Some(s) if top != 0 => Some((s, top.min(self.max_level))),
             _ => None,
         };
         let (o, au, av) = (self.o, self.au, self.av);
@@ -3343,7 +3349,7 @@ impl Walk<f32> {
         let top = field.walk_top();
         let skip = match field.skip() {
             // `walk_from`'s levels (those of the walks from entries; the
-            // lanes from lines take `line_top` of them).
+            // lanes from lines take level 1).
             Some(s) if TWO_BUILDS && top != 0 => Some((s, top)),
             _ => None,
         };
@@ -3391,10 +3397,8 @@ impl Walk<f32> {
                 build!(-1, -1, false);
             };
         }
-        if lines != 0 && line_top(top) == 1 {
+        if lines != 0 {
             builds!(true, lines, from_line, 1);
-        } else if lines != 0 {
-            builds!(false, lines, from_line, line_top(top));
         }
         if entries != 0 && top == 1 {
             builds!(true, entries, from_entry, 1);
